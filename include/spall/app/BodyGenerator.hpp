@@ -1,0 +1,34 @@
+#pragma once
+// Turns the deck's bodies into particles: lattice points (cubic or hexagonal, optionally mapped
+// by lattice_transform) clipped to each shape, with masses from the lattice volume, initial
+// state from the material, stable ids in deck order and jitter drawn from (seed, id), never from
+// the rank. Reports bodies with no particles and overlapping bodies as deck errors.
+#include "spall/io/Deck.hpp"
+#include "spall/materials/Eos.hpp"
+#include "spall/solvers/SphFields.hpp"
+
+#include <vector>
+
+namespace spall::app {
+
+struct BodySummary {
+  std::string name;
+  std::size_t particles = 0;
+  double mass = 0.0;
+  double spacing = 0.0; // after run.resolution
+};
+
+// Fills the store's owned particles (all of them: the caller distributes).
+template <int Dim>
+std::vector<BodySummary> generateBodies(const Deck& deck, const std::vector<materials::Eos>& eos,
+                                        ParticleStore& store, const solvers::SphFields<Dim>& f);
+
+// Deposits each [[energy_source]] at t = 0, kernel-weighted over the particles within its radius
+// (or into the nearest particle when the radius is zero).
+template <int Dim>
+void applyEnergySources(const Deck& deck, ParticleStore& store, const solvers::SphFields<Dim>& f);
+
+// A uniform deviate in [-1, 1) from (seed, id, stream): the same on any rank count.
+double hashedUniform(std::uint64_t seed, std::uint64_t id, std::uint64_t stream);
+
+} // namespace spall::app

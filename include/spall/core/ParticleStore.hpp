@@ -1,0 +1,201 @@
+#pragma once
+// Structure-of-arrays particle storage. Modules register the fields they need once, at set-up;
+// every registered field then resizes, permutes, is copied to ghosts, migrates and is
+// checkpointed by the generic code here, without that code knowing the field.
+//
+// Layout: particles [0, localCount) are owned by this rank; [localCount, size) are ghosts
+// (periodic images, wall mirrors, later remote halo copies), rebuilt every step.
+#include "spall/core/Types.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace spall {
+
+enum class ScalarType { F64, U64, I32 };
+
+enum FieldFlag : unsigned {
+  kOutput = 1u << 0,     // written to snapshots when the deck asks for it (default: all)
+  kCheckpoint = 1u << 1, // part of the restartable state
+};
+
+struct FieldInfo {
+  std::string name;
+  ScalarType scalar = ScalarType::F64;
+  std::vector<int> shape; // per-particle shape: {} scalar, {Dim} vector, {Dim,Dim} tensor
+  unsigned flags = kOutput | kCheckpoint;
+  std::size_t scalarsPerParticle() const {
+    std::size_t n = 1;
+    for (int s : shape) n *= static_cast<std::size_t>(s);
+    return n;
+  }
+};
+
+// Maps a C++ element type to its HDF5-facing description.
+template <class T> struct ElementTraits;
+template <> struct ElementTraits<double> {
+  static constexpr ScalarType scalar = ScalarType::F64;
+  static std::vector<int> shape() { return {}; }
+};
+template <> struct ElementTraits<std::uint64_t> {
+  static constexpr ScalarType scalar = ScalarType::U64;
+  static std::vector<int> shape() { return {}; }
+};
+template <> struct ElementTraits<std::int32_t> {
+  static constexpr ScalarType scalar = ScalarType::I32;
+  static std::vector<int> shape() { return {}; }
+};
+template <int R, int C> struct ElementTraits<Eigen::Matrix<double, R, C>> {
+  static constexpr ScalarType scalar = ScalarType::F64;
+  static std::vector<int> shape() { return C == 1 ? std::vector<int>{R} : std::vector<int>{R, C}; }
+};
+
+class ColumnBase {
+public:
+  explicit ColumnBase(FieldInfo info) : info_(std::move(info)) {}
+  virtual ~ColumnBase() = default;
+  const FieldInfo& info() const { return info_; }
+  virtual void resize(std::size_t n) = 0;
+  virtual void copy(std::size_t from, std::size_t to) = 0;
+  // After the call, element i holds what element order[i] held, for i < order.size().
+  virtual void permutePrefix(std::span<const std::uint32_t> order) = 0;
+  virtual std::size_t bytesPerParticle() const = 0;
+  virtual std::size_t capacityBytes() const = 0;
+  virtual void* raw() = 0;
+  virtual const void* raw() const = 0;
+
+private:
+  FieldInfo info_;
+};
+
+template <class T> class Column final : public ColumnBase {
+public:
+  explicit Column(FieldInfo info) : ColumnBase(std::move(info)) {}
+  std::vector<T> values;
+  void resize(std::size_t n) override { values.resize(n); }
+  void copy(std::size_t from, std::size_t to) override { values[to] = values[from]; }
+  void permutePrefix(std::span<const std::uint32_t> order) override {
+    std::vector<T> tmp(order.size());
+    for (std::size_t i = 0; i < order.size(); ++i) tmp[i] = values[order[i]];
+    std::copy(tmp.begin(), tmp.end(), values.begin());
+  }
+  std::size_t bytesPerParticle() const override { return sizeof(T); }
+  std::size_t capacityBytes() const override { return values.capacity() * sizeof(T); }
+  void* raw() override { return values.data(); }
+  const void* raw() const override { return values.data(); }
+};
+
+// A typed handle to a registered field: looked up once, then used without strings.
+template <class T> struct Field {
+  std::size_t index = static_cast<std::size_t>(-1);
+  bool valid() const { return index != static_cast<std::size_t>(-1); }
+};
+
+class ParticleStore {
+public:
+  // Registers a field (or returns the existing one of the same name and type).
+  template <class T> Field<T> add(const std::string& name, unsigned flags = kOutput | kCheckpoint) {
+    for (std::size_t i = 0; i < columns_.size(); ++i) {
+      if (columns_[i]->info().name == name) {
+        if (!dynamic_cast<Column<T>*>(columns_[i].get()))
+          throw std::logic_error("field '" + name + "' registered twice with different types");
+        return Field<T>{i};
+      }
+    }
+    FieldInfo info{name, ElementTraits<T>::scalar, ElementTraits<T>::shape(), flags};
+    auto col = std::make_unique<Column<T>>(std::move(info));
+    col->resize(capacity_);
+    columns_.push_back(std::move(col));
+    return Field<T>{columns_.size() - 1};
+  }
+
+  template <class T> std::span<T> operator[](Field<T> f) {
+    auto& v = static_cast<Column<T>*>(columns_[f.index].get())->values;
+    return {v.data(), size_};
+  }
+  template <class T> std::span<const T> operator[](Field<T> f) const {
+    const auto& v = static_cast<const Column<T>*>(columns_[f.index].get())->values;
+    return {v.data(), size_};
+  }
+
+  // Exchanges the contents of two fields of the same type (e.g. current and previous rates).
+  template <class T> void swapValues(Field<T> a, Field<T> b) {
+    std::swap(static_cast<Column<T>*>(columns_[a.index].get())->values,
+              static_cast<Column<T>*>(columns_[b.index].get())->values);
+  }
+
+  std::size_t size() const { return size_; }
+  std::size_t localCount() const { return local_; }
+  std::size_t ghostCount() const { return size_ - local_; }
+
+  // Sets the number of owned particles; drops all ghosts.
+  void resizeLocal(std::size_t n) {
+    local_ = n;
+    resizeAll(n);
+  }
+  void dropGhosts() { resizeAll(local_); }
+  // Appends a ghost that copies every field of particle `source`; returns its index.
+  std::size_t appendGhostCopy(std::size_t source) {
+    const std::size_t g = size_;
+    growTo(size_ + 1);
+    for (auto& c : columns_) c->copy(source, g);
+    return g;
+  }
+  // Reserves room so that appending ghosts does not reallocate every time.
+  void reserve(std::size_t n) {
+    if (n > capacity_) {
+      capacity_ = n;
+      for (auto& c : columns_) c->resize(std::max(n, size_));
+    }
+  }
+  // Reorders the owned particles (e.g. along a space-filling curve); ghosts are dropped.
+  void permuteLocal(std::span<const std::uint32_t> order) {
+    if (order.size() != local_) throw std::logic_error("permuteLocal: order must cover all owned particles");
+    dropGhosts();
+    for (auto& c : columns_) c->permutePrefix(order);
+  }
+
+  const std::vector<std::unique_ptr<ColumnBase>>& columns() const { return columns_; }
+  const ColumnBase* find(std::string_view name) const {
+    for (const auto& c : columns_)
+      if (c->info().name == name) return c.get();
+    return nullptr;
+  }
+  std::size_t bytesPerParticle() const {
+    std::size_t b = 0;
+    for (const auto& c : columns_) b += c->bytesPerParticle();
+    return b;
+  }
+  std::size_t allocatedBytes() const {
+    std::size_t b = 0;
+    for (const auto& c : columns_) b += c->capacityBytes();
+    return b;
+  }
+
+private:
+  void resizeAll(std::size_t n) {
+    size_ = n;
+    if (n > capacity_) capacity_ = n;
+    for (auto& c : columns_) c->resize(capacity_);
+  }
+  void growTo(std::size_t n) {
+    if (n > capacity_) {
+      capacity_ = std::max<std::size_t>(n, capacity_ + capacity_ / 2 + 16);
+      for (auto& c : columns_) c->resize(capacity_);
+    }
+    size_ = n;
+  }
+
+  std::vector<std::unique_ptr<ColumnBase>> columns_;
+  std::size_t size_ = 0;     // owned + ghosts
+  std::size_t local_ = 0;    // owned
+  std::size_t capacity_ = 0; // allocated rows in every column
+};
+
+} // namespace spall

@@ -1,0 +1,49 @@
+#pragma once
+// Global conserved totals: mass, momentum, kinetic and internal energy (history.csv).
+#include "spall/parallel/Mpi.hpp"
+#include "spall/solvers/SphFields.hpp"
+
+#include <array>
+
+namespace spall::diagnostics {
+
+struct Totals {
+  double mass = 0.0;
+  std::array<double, 3> momentum{0.0, 0.0, 0.0};
+  double kinetic = 0.0;
+  double internal = 0.0;
+  // sum of |m v| per component: the scale against which momentum errors are judged when the
+  // total momentum itself is zero (Sod, Noh)
+  std::array<double, 3> momentumScale{0.0, 0.0, 0.0};
+  double total() const { return kinetic + internal; }
+};
+
+template <int Dim>
+Totals computeTotals(const ParticleStore& s, const solvers::SphFields<Dim>& f,
+                     const parallel::MpiContext& mpi) {
+  const auto m = s[f.m];
+  const auto v = s[f.v];
+  const auto e = s[f.e];
+  std::array<double, 10> t{};
+  for (std::size_t i = 0; i < s.localCount(); ++i) {
+    t[0] += m[i];
+    for (int d = 0; d < Dim; ++d) {
+      t[1 + d] += m[i] * v[i][d];
+      t[4 + d] += std::abs(m[i] * v[i][d]);
+    }
+    t[7] += 0.5 * m[i] * v[i].squaredNorm();
+    t[8] += m[i] * e[i];
+  }
+  mpi.sumInRankOrder(t);
+  Totals r;
+  r.mass = t[0];
+  for (int d = 0; d < 3; ++d) {
+    r.momentum[d] = t[1 + d];
+    r.momentumScale[d] = t[4 + d];
+  }
+  r.kinetic = t[7];
+  r.internal = t[8];
+  return r;
+}
+
+} // namespace spall::diagnostics

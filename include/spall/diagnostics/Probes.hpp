@@ -1,0 +1,52 @@
+#pragma once
+// Probes (INTERFACE.md, [[probe]]): "material" follows the particle nearest the probe position at
+// t = 0 (by id, so it survives reordering and, later, migration); "space" interpolates at a fixed
+// point with the Shepard-normalised kernel sum over the particles whose support covers it.
+#include "spall/io/Deck.hpp"
+#include "spall/parallel/Mpi.hpp"
+#include "spall/solvers/SphFields.hpp"
+
+#include <string>
+#include <vector>
+
+namespace spall::diagnostics {
+
+// A probe field, resolved once from its name.
+struct ProbeField {
+  enum class Kind { Position, Velocity, Stress, Pressure, Density, Energy, SoundSpeed, Mass, SmoothingLength };
+  Kind kind;
+  int a = 0, b = 0; // components
+  std::string name;
+};
+
+// Throws DeckError at `where` for a name this dimension does not have.
+ProbeField resolveProbeField(const std::string& name, int dim, const SourceLocation& where);
+// All probe field names available in `dim` dimensions (for messages and `spall check`).
+std::vector<std::string> probeFieldNames(int dim);
+
+struct ProbeSample {
+  std::string probe, field;
+  double value;
+};
+
+template <int Dim> class Probes {
+public:
+  explicit Probes(const std::vector<ProbeConfig>& config);
+  // Material probes pick their particle (global nearest, lowest id on ties).
+  void attach(const ParticleStore& s, const solvers::SphFields<Dim>& f, const parallel::MpiContext& mpi);
+  // Values of every probe field now; identical on every rank.
+  std::vector<ProbeSample> sample(const ParticleStore& s, const solvers::SphFields<Dim>& f,
+                                  const parallel::MpiContext& mpi, double support);
+  bool empty() const { return probes_.empty(); }
+
+private:
+  struct Probe {
+    ProbeConfig config;
+    std::vector<ProbeField> fields;
+    ParticleId particle = 0;
+    std::size_t cachedIndex = 0;
+  };
+  std::vector<Probe> probes_;
+};
+
+} // namespace spall::diagnostics

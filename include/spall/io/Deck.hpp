@@ -1,0 +1,171 @@
+#pragma once
+// The typed, validated form of a TOML deck (INTERFACE.md, "Deck schema"). Every value that came
+// from the deck keeps the position it came from, so later checks (a body with zero particles,
+// overlapping bodies) still report FILE:LINE:COLUMN.
+#include "spall/core/Error.hpp"
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace spall {
+
+struct RunConfig {
+  std::string title;
+  int dimension = 0;
+  double end_time = 0.0;
+  std::int64_t max_steps = std::numeric_limits<std::int64_t>::max();
+  double resolution = 1.0;
+  std::uint64_t seed = 1;
+};
+
+enum class KernelType { CubicSpline, WendlandC2, WendlandC4 };
+enum class DensityMethod {
+  Continuity,         // d rho/dt = sum_j m_j (v_i - v_j) . grad W_ij
+  Summation,          // rho_i = sum_j m_j W_ij   (Lam et al. 2001, Eq. 18)
+  NormalizedSummation // rho_i = sum m_j W_ij / sum (m_j/rho_j) W_ij  (Lam et al. 2001, Eq. 25)
+};
+
+struct ArtificialViscosityConfig {
+  double alpha = 1.0;
+  double beta = 2.0;
+  bool balsara = false;
+};
+
+struct SolverConfig {
+  std::string method = "sph"; // "sph" (later "asph", "mpm")
+  KernelType kernel = KernelType::CubicSpline;
+  double nodes_per_h = 1.5; // n_h target (Owen 2010, Sec. II-A)
+  double cfl = 0.25;
+  DensityMethod density = DensityMethod::Continuity;
+  ArtificialViscosityConfig artificial_viscosity;
+  // Limits on the smoothing scale: absolute bounds [h_min, h_max] in m (0 / inf: none), and a
+  // bound relative to the particle's own volume: h <= h_max_ratio * n_h * (m/rho)^(1/dim), which
+  // stops h from growing without end at free surfaces, where the neighbor count is one-sided.
+  double h_min = 0.0;
+  double h_max = std::numeric_limits<double>::infinity();
+  double h_max_ratio = 2.0;
+};
+
+struct DecompositionConfig {
+  std::string curve = "hilbert";   // "hilbert" | "morton"
+  std::string partitioner = "sfc"; // "sfc" | "metis"
+  int rebalance_every = 20;
+};
+
+struct EosConfig {
+  std::string type;                       // "ideal_gas" | "linear" | "mie_gruneisen" | "tillotson"
+  double gamma = 0.0;                     // ideal_gas
+  double bulk_modulus = 0.0;              // linear
+  double c0 = 0.0, s = 0.0, gamma0 = 0.0; // mie_gruneisen (Lam et al. 2001, Eqs. 4-6)
+  // tillotson (parsed and validated now; the EOS itself arrives with the solid-mechanics work)
+  double a = 0.0, b = 0.0, A = 0.0, B = 0.0, alpha = 0.0, beta = 0.0;
+  double e0 = 0.0, e_iv = 0.0, e_cv = 0.0;
+  SourceLocation where;
+};
+
+struct MaterialConfig {
+  std::string name;
+  double density = 0.0; // reference density rho0
+  EosConfig eos;
+  std::string strength = "none";
+  SourceLocation where;
+};
+
+struct ShapeConfig {
+  std::string type;                              // "box" | "sphere" | "cylinder" | "ring"
+  std::vector<double> min, max;                  // box
+  std::vector<double> center;                    // sphere, ring
+  double radius = 0.0;                           // sphere, cylinder
+  std::vector<double> base, axis;                // cylinder (3D)
+  double length = 0.0;                           // cylinder
+  double inner_radius = 0.0, outer_radius = 0.0; // ring (2D)
+  SourceLocation where;
+};
+
+struct RadialVelocityConfig {
+  std::vector<double> center;
+  double speed = 0.0; // added along (x - center)/|x - center|; negative: inflow (Noh)
+};
+
+struct BodyConfig {
+  std::string name;
+  std::string material;    // name as in the deck
+  int material_index = -1; // resolved index into Deck::materials
+  ShapeConfig shape;
+  double spacing = 0.0;          // before run.resolution
+  std::string lattice = "cubic"; // "cubic" | "hexagonal"
+  std::vector<double> velocity;  // dimension entries
+  std::optional<double> initial_density;
+  std::optional<double> initial_specific_energy;
+  std::optional<double> initial_pressure;
+  double jitter = 0.0; // fraction of the spacing
+  std::optional<RadialVelocityConfig> radial_velocity;
+  double insert_time = 0.0;
+  std::optional<std::vector<std::vector<double>>> lattice_transform; // dimension x dimension
+  bool allow_overlap = false; // may overlap bodies listed before it
+  SourceLocation where;
+};
+
+struct EnergySourceConfig {
+  std::vector<double> center;
+  double radius = 0.0;
+  double energy = 0.0; // J
+  SourceLocation where;
+};
+
+struct BoundaryConfig {
+  std::string type;                  // "rigid_wall" | "periodic"
+  std::vector<double> point, normal; // rigid_wall (normal points into the material)
+  int axis = 0;                      // periodic: 0 = x, 1 = y, 2 = z
+  double min = 0.0, max = 0.0;       // periodic
+  SourceLocation where;
+};
+
+struct OutputConfig {
+  std::string directory;
+  double every = 0.0;              // s of simulated time between snapshots (0: not by time)
+  std::int64_t every_steps = 0;    // steps between snapshots (0: not by steps)
+  std::vector<std::string> fields; // empty: all present
+  std::int64_t history_every_steps = 1;
+  SourceLocation where;
+};
+
+struct CheckpointConfig {
+  std::int64_t every_steps = 0;
+  double every_wall_seconds = 0.0;
+  int keep = 2;
+  SourceLocation where;
+};
+
+struct ProbeConfig {
+  std::string name;
+  std::vector<double> position;
+  std::string track = "material"; // "material" | "space"
+  std::vector<std::string> fields;
+  SourceLocation where;
+};
+
+struct Deck {
+  std::string path;          // the deck file as given
+  std::string resolved_toml; // the deck with overrides applied, as TOML text
+  RunConfig run;
+  SolverConfig solver;
+  DecompositionConfig decomposition;
+  std::vector<MaterialConfig> materials;
+  std::vector<BodyConfig> bodies;
+  std::vector<EnergySourceConfig> energy_sources;
+  std::vector<BoundaryConfig> boundaries;
+  OutputConfig output;
+  std::optional<CheckpointConfig> checkpoint;
+  std::vector<ProbeConfig> probes;
+};
+
+// Reads, applies `--set KEY=VALUE` overrides to, and validates a deck. Throws DeckError with the
+// position of the first offending value. Writes nothing.
+Deck loadDeck(const std::string& path, const std::vector<std::string>& overrides = {});
+
+} // namespace spall

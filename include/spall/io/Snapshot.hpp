@@ -1,0 +1,53 @@
+#pragma once
+// Snapshots: one HDF5 file per output time, written collectively by all ranks through MPI-IO so
+// the file is the same whatever the rank count (INTERFACE.md, "Snapshot HDF5"), and a serial
+// reader for tests, tools and restarts.
+#include "spall/core/ParticleStore.hpp"
+
+#include <mpi.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace spall::io {
+
+// `localCount` rows of info.scalarsPerParticle() scalars of type info.scalar, contiguous,
+// row-major (the per-particle shape is the trailing dimensions of the dataset).
+struct SnapshotField {
+  FieldInfo info;
+  const void* data = nullptr;
+};
+
+struct SnapshotAttributes {
+  double time = 0.0;
+  std::int64_t step = 0;
+  int dimension = 0;
+  std::string version;
+};
+
+// Collective over comm: every rank passes the same field list (names, order, types, shapes)
+// with its own rows; rank r's rows go after those of ranks < r. Writes PATH.tmp and renames it
+// to PATH once complete, so a killed writer never leaves a complete-looking file. Throws
+// RunError naming the path and the failing HDF5 call.
+void writeSnapshot(MPI_Comm comm, const std::string& path, const SnapshotAttributes& attrs,
+                   std::size_t localCount, std::span<const SnapshotField> fields);
+
+struct SnapshotData {
+  double time = 0.0;
+  std::int64_t step = 0;
+  int dimension = 0;
+  std::string version;
+  std::size_t count = 0;
+  std::map<std::string, std::vector<double>> fields; // every /particles dataset, as doubles
+  std::map<std::string, std::vector<int>> shapes;    // per-particle shape of each dataset
+  std::vector<std::uint64_t> id;                     // /particles/id exactly (empty if absent)
+};
+
+// Serial (no MPI needed). Integer datasets are converted to double, exact below 2^53.
+SnapshotData readSnapshot(const std::string& path);
+
+} // namespace spall::io

@@ -1,0 +1,48 @@
+#pragma once
+// The particle fields of the SPH hydro path, registered once in the store. Snapshot names follow
+// INTERFACE.md; rates and scratch sums are checkpointed (an exact restart needs the rates of the
+// last step) but not written to snapshots.
+#include "spall/core/ParticleStore.hpp"
+
+namespace spall::solvers {
+
+template <int Dim> struct SphFields {
+  Field<ParticleId> id;
+  Field<Vec<Dim>> x, v;
+  Field<double> m, rho, e, p, cs, h;
+  Field<std::int32_t> material, body;
+  // Rates of the current and previous force evaluation (kick-drift-kick needs both).
+  Field<Vec<Dim>> a, aOld;
+  Field<double> dedt, dedtOld, drhodt, drhodtOld;
+  // Per-step sums of the neighbor loop.
+  Field<double> psi0;  // Owen (2010) Eq. 1, before the 1/nu root
+  Field<double> muMax; // largest viscous mu_ij, for the time step
+  Field<double> divv, curlv; // Balsara switch inputs (|curl v|)
+
+  void registerIn(ParticleStore& s) {
+    constexpr unsigned out = kOutput | kCheckpoint, ck = kCheckpoint, none = 0;
+    id = s.add<ParticleId>("id", out);
+    x = s.add<Vec<Dim>>("position", out);
+    v = s.add<Vec<Dim>>("velocity", out);
+    m = s.add<double>("mass", out);
+    rho = s.add<double>("density", out);
+    p = s.add<double>("pressure", out);
+    e = s.add<double>("specific_internal_energy", out);
+    cs = s.add<double>("sound_speed", out);
+    material = s.add<std::int32_t>("material", out);
+    body = s.add<std::int32_t>("body", out);
+    h = s.add<double>("smoothing_length", ck);
+    a = s.add<Vec<Dim>>("acceleration", ck);
+    aOld = s.add<Vec<Dim>>("acceleration_previous", none);
+    dedt = s.add<double>("specific_internal_energy_rate", ck);
+    dedtOld = s.add<double>("specific_internal_energy_rate_previous", none);
+    drhodt = s.add<double>("density_rate", ck);
+    drhodtOld = s.add<double>("density_rate_previous", none);
+    psi0 = s.add<double>("psi0", none);
+    muMax = s.add<double>("mu_max", none);
+    divv = s.add<double>("velocity_divergence", ck);
+    curlv = s.add<double>("velocity_curl", ck);
+  }
+};
+
+} // namespace spall::solvers

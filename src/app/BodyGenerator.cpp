@@ -1,0 +1,274 @@
+#include "spall/app/BodyGenerator.hpp"
+
+#include "spall/kernels/Kernels.hpp"
+
+#include <cmath>
+#include <fmt/format.h>
+#include <limits>
+
+namespace spall::app {
+
+namespace {
+
+std::uint64_t splitmix64(std::uint64_t z) {
+  z += 0x9e3779b97f4a7c15ull;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  return z ^ (z >> 31);
+}
+
+template <int Dim> Vec<Dim> toVec(const std::vector<double>& a) {
+  Vec<Dim> v = Vec<Dim>::Zero();
+  for (int d = 0; d < Dim && d < static_cast<int>(a.size()); ++d) v[d] = a[d];
+  return v;
+}
+
+template <int Dim> struct Shape {
+  const ShapeConfig& c;
+  Vec<Dim> center() const {
+    if (c.type == "box") return 0.5 * (toVec<Dim>(c.min) + toVec<Dim>(c.max));
+    if (c.type == "cylinder")
+      return toVec<Dim>(c.base) + 0.5 * c.length * toVec<Dim>(c.axis).normalized();
+    return toVec<Dim>(c.center);
+  }
+  // Radius of a ball about center() that holds the shape.
+  double extent() const {
+    if (c.type == "box") return 0.5 * (toVec<Dim>(c.max) - toVec<Dim>(c.min)).norm();
+    if (c.type == "cylinder") return std::hypot(c.radius, 0.5 * c.length);
+    if (c.type == "ring") return c.outer_radius;
+    return c.radius;
+  }
+  bool contains(const Vec<Dim>& x) const {
+    if (c.type == "box") {
+      for (int d = 0; d < Dim; ++d)
+        if (x[d] < c.min[d] || x[d] >= c.max[d]) return false;
+      return true;
+    }
+    if (c.type == "sphere") return (x - toVec<Dim>(c.center)).norm() < c.radius;
+    if (c.type == "ring") {
+      const double r = (x - toVec<Dim>(c.center)).norm();
+      return r >= c.inner_radius && r < c.outer_radius;
+    }
+    // cylinder
+    const Vec<Dim> axis = toVec<Dim>(c.axis).normalized();
+    const Vec<Dim> rel = x - toVec<Dim>(c.base);
+    const double t = rel.dot(axis);
+    return t >= 0.0 && t < c.length && (rel - t * axis).norm() < c.radius;
+  }
+};
+
+// Lattice sites about the origin with nearest spacing dx: cubic, or hexagonal (triangular in 2D,
+// hexagonal close packing in 3D). Returns the volume per site.
+template <int Dim, class F>
+double forEachLatticeSite(bool hexagonal, double dx, double radius, F&& visit) {
+  const int n = static_cast<int>(std::ceil(radius / dx)) + 2;
+  if (!hexagonal || Dim == 1) {
+    // Sites at half-integer offsets so a symmetric shape gets a symmetric lattice.
+    const int nz = Dim == 3 ? n : 0, ny = Dim >= 2 ? n : 0;
+    for (int k = -nz; k <= nz; ++k)
+      for (int j = -ny; j <= ny; ++j)
+        for (int i = -n; i <= n; ++i) {
+          Vec<Dim> x;
+          x[0] = (i + 0.5) * dx;
+          if constexpr (Dim >= 2) x[1] = (j + 0.5) * dx;
+          if constexpr (Dim == 3) x[2] = (k + 0.5) * dx;
+          visit(x);
+        }
+    return std::pow(dx, Dim);
+  }
+  const double dy = dx * std::sqrt(3.0) / 2.0;
+  const double dz = dx * std::sqrt(2.0 / 3.0);
+  const int ny = static_cast<int>(std::ceil(radius / dy)) + 2;
+  const int nz = Dim == 3 ? static_cast<int>(std::ceil(radius / dz)) + 2 : 0;
+  for (int k = -nz; k <= nz; ++k)
+    for (int j = -ny; j <= ny; ++j)
+      for (int i = -n; i <= n; ++i) {
+        Vec<Dim> x;
+        const bool layerB = (k & 1) != 0;
+        x[0] = (i + 0.5 * (j & 1) + (layerB ? 0.5 : 0.0)) * dx;
+        x[1] = j * dy + (layerB ? dx / (2.0 * std::sqrt(3.0)) : 0.0);
+        if constexpr (Dim == 3) x[2] = k * dz;
+        visit(x);
+      }
+  return Dim == 2 ? dx * dy : dx * dx * dx / std::sqrt(2.0);
+}
+
+} // namespace
+
+double hashedUniform(std::uint64_t seed, std::uint64_t id, std::uint64_t stream) {
+  const std::uint64_t r = splitmix64(splitmix64(seed * 0x9e3779b97f4a7c15ull + stream) ^ id);
+  return 2.0 * static_cast<double>(r >> 11) * 0x1.0p-53 - 1.0;
+}
+
+template <int Dim>
+std::vector<BodySummary> generateBodies(const Deck& deck, const std::vector<materials::Eos>& eos,
+                                        ParticleStore& store, const solvers::SphFields<Dim>& f) {
+  struct Site {
+    Vec<Dim> x;
+    double volume;
+  };
+  std::vector<BodySummary> summary;
+  std::vector<std::vector<Site>> sites(deck.bodies.size());
+  std::size_t total = 0;
+  for (std::size_t b = 0; b < deck.bodies.size(); ++b) {
+    const BodyConfig& body = deck.bodies[b];
+    const Shape<Dim> shape{body.shape};
+    const double dx = body.spacing / deck.run.resolution;
+    Tensor<Dim> A = Tensor<Dim>::Identity();
+    if (body.lattice_transform)
+      for (int r = 0; r < Dim; ++r)
+        for (int c = 0; c < Dim; ++c) A(r, c) = (*body.lattice_transform)[r][c];
+    const double detA = std::abs(A.determinant());
+    auto& out = sites[b];
+    if (body.shape.type == "box" && body.lattice == "cubic" && !body.lattice_transform) {
+      // Fill the box exactly: n_k = round(L_k/dx) cells, spacing adjusted to L_k/n_k.
+      Vec<Dim> lo = toVec<Dim>(body.shape.min), hi = toVec<Dim>(body.shape.max), step;
+      std::int64_t n[3] = {1, 1, 1};
+      double volume = 1.0;
+      for (int d = 0; d < Dim; ++d) {
+        n[d] = std::max<std::int64_t>(1, std::llround((hi[d] - lo[d]) / dx));
+        step[d] = (hi[d] - lo[d]) / static_cast<double>(n[d]);
+        volume *= step[d];
+      }
+      for (std::int64_t k = 0; k < n[2]; ++k)
+        for (std::int64_t j = 0; j < n[1]; ++j)
+          for (std::int64_t i = 0; i < n[0]; ++i) {
+            Vec<Dim> x;
+            x[0] = lo[0] + (static_cast<double>(i) + 0.5) * step[0];
+            if constexpr (Dim >= 2) x[1] = lo[1] + (static_cast<double>(j) + 0.5) * step[1];
+            if constexpr (Dim == 3) x[2] = lo[2] + (static_cast<double>(k) + 0.5) * step[2];
+            out.push_back({x, volume});
+          }
+    } else {
+      // The lattice is mapped by A about the shape centre, so cover the preimage of the shape.
+      const Vec<Dim> c = shape.center();
+      // |A^-1|_F bounds the operator norm of A^-1 from above: a conservative cover.
+      const double radius = shape.extent() * A.inverse().norm();
+      const double volume = forEachLatticeSite<Dim>(body.lattice == "hexagonal", dx, radius,
+                                                    [&](const Vec<Dim>& site) {
+                                                      const Vec<Dim> x = c + A * site;
+                                                      if (shape.contains(x)) out.push_back({x, 0.0});
+                                                    });
+      for (auto& s : out) s.volume = volume * detA;
+    }
+    if (out.empty()) {
+      throw DeckError(body.where, fmt::format("body '{}' has no particles: its shape is smaller than "
+                                              "the spacing {:g} m (after run.resolution)",
+                                              body.name, dx));
+    }
+    // Overlap: a particle of this body inside an earlier body's shape.
+    if (!body.allow_overlap) {
+      for (std::size_t o = 0; o < b; ++o) {
+        const Shape<Dim> other{deck.bodies[o].shape};
+        for (const auto& s : out) {
+          if (other.contains(s.x)) {
+            throw DeckError(body.where,
+                            fmt::format("body '{}' overlaps body '{}' (a particle at distance "
+                                        "{:g} m from the origin lies inside both); set "
+                                        "allow_overlap = true in body '{}' if this is intended",
+                                        body.name, deck.bodies[o].name, s.x.norm(), body.name));
+          }
+        }
+      }
+    }
+    summary.push_back({body.name, out.size(), 0.0, dx});
+    total += out.size();
+  }
+
+  store.resizeLocal(total);
+  auto id = store[f.id];
+  auto x = store[f.x];
+  auto v = store[f.v];
+  auto m = store[f.m];
+  auto rho = store[f.rho];
+  auto e = store[f.e];
+  auto h = store[f.h];
+  auto mat = store[f.material];
+  auto bod = store[f.body];
+  std::size_t k = 0;
+  for (std::size_t b = 0; b < deck.bodies.size(); ++b) {
+    const BodyConfig& body = deck.bodies[b];
+    const MaterialConfig& material = deck.materials[static_cast<std::size_t>(body.material_index)];
+    const double rho0 = body.initial_density.value_or(material.density);
+    double e0 = body.initial_specific_energy.value_or(0.0);
+    if (body.initial_pressure) {
+      const auto ep = std::visit(
+          [&](const auto& model) { return model.energyForPressure(rho0, *body.initial_pressure); },
+          eos[static_cast<std::size_t>(body.material_index)]);
+      if (!ep) {
+        throw DeckError(body.where, fmt::format("body '{}': initial_pressure cannot be set with the "
+                                                "'{}' EOS of material '{}' (its pressure does not "
+                                                "depend on the internal energy); use initial_density",
+                                                body.name, material.eos.type, material.name));
+      }
+      e0 = *ep;
+    }
+    const Vec<Dim> v0 = toVec<Dim>(body.velocity);
+    const double dx = summary[b].spacing;
+    for (const auto& s : sites[b]) {
+      id[k] = k;
+      Vec<Dim> xi = s.x;
+      if (body.jitter > 0.0)
+        for (int d = 0; d < Dim; ++d)
+          xi[d] += body.jitter * dx * hashedUniform(deck.run.seed, k, static_cast<std::uint64_t>(d));
+      x[k] = xi;
+      v[k] = v0;
+      if (body.radial_velocity) {
+        const Vec<Dim> r = xi - toVec<Dim>(body.radial_velocity->center);
+        const double rn = r.norm();
+        if (rn > 0.0) v[k] += body.radial_velocity->speed / rn * r;
+      }
+      m[k] = rho0 * s.volume;
+      rho[k] = rho0;
+      e[k] = e0;
+      // Initial h from the lattice: n_h sites per smoothing scale.
+      h[k] = deck.solver.nodes_per_h * std::pow(s.volume, 1.0 / Dim);
+      mat[k] = body.material_index;
+      bod[k] = static_cast<std::int32_t>(b);
+      summary[b].mass += m[k];
+      ++k;
+    }
+  }
+  return summary;
+}
+
+template <int Dim>
+void applyEnergySources(const Deck& deck, ParticleStore& store, const solvers::SphFields<Dim>& f) {
+  const auto x = store[f.x];
+  const auto m = store[f.m];
+  const auto e = store[f.e];
+  const std::size_t n = store.localCount();
+  using W = kernels::Kernel<kernels::CubicSpline<Dim>, Dim>;
+  for (const auto& src : deck.energy_sources) {
+    const Vec<Dim> c = toVec<Dim>(src.center);
+    if (src.radius <= 0.0) {
+      std::size_t best = 0;
+      double bestD = std::numeric_limits<double>::infinity();
+      for (std::size_t i = 0; i < n; ++i) {
+        const double d = (x[i] - c).squaredNorm();
+        if (d < bestD) bestD = d, best = i; // lowest index (= id) wins a tie
+      }
+      e[best] += src.energy / m[best];
+      continue;
+    }
+    // Specific energy proportional to a cubic-spline weight of support `radius`.
+    const double hs = 0.5 * src.radius;
+    double norm = 0.0;
+    for (std::size_t i = 0; i < n; ++i) norm += m[i] * W::W((x[i] - c).norm(), hs);
+    if (norm <= 0.0) {
+      throw DeckError(src.where, "energy_source: no particle lies within its radius");
+    }
+    for (std::size_t i = 0; i < n; ++i) e[i] += src.energy * W::W((x[i] - c).norm(), hs) / norm;
+  }
+}
+
+#define SPALL_INSTANTIATE(D)                                                                       \
+  template std::vector<BodySummary> generateBodies<D>(const Deck&, const std::vector<materials::Eos>&, \
+                                                      ParticleStore&, const solvers::SphFields<D>&); \
+  template void applyEnergySources<D>(const Deck&, ParticleStore&, const solvers::SphFields<D>&);
+SPALL_INSTANTIATE(1)
+SPALL_INSTANTIATE(2)
+SPALL_INSTANTIATE(3)
+#undef SPALL_INSTANTIATE
+
+} // namespace spall::app

@@ -1,0 +1,567 @@
+#include "spall/app/Run.hpp"
+
+#include "spall/app/BodyGenerator.hpp"
+#include "spall/app/RunLog.hpp"
+#include "spall/app/SystemInfo.hpp"
+#include "spall/diagnostics/Conservation.hpp"
+#include "spall/diagnostics/Probes.hpp"
+#include "spall/io/CsvLog.hpp"
+#include "spall/io/Snapshot.hpp"
+#include "spall/io/Xdmf.hpp"
+#include "spall/neighbors/NeighborList.hpp"
+#include "spall/neighbors/SpatialOrder.hpp"
+#include "spall/solvers/Boundaries.hpp"
+#include "spall/solvers/SphSolver.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fmt/format.h>
+#include <fstream>
+#include <limits>
+
+namespace spall::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::vector<materials::Eos> buildEos(const Deck& deck) {
+  std::vector<materials::Eos> eos;
+  for (const auto& m : deck.materials) {
+    const auto& c = m.eos;
+    if (c.type == "ideal_gas") eos.emplace_back(materials::IdealGas{c.gamma});
+    else if (c.type == "linear") eos.emplace_back(materials::LinearEos{m.density, c.bulk_modulus});
+    else if (c.type == "mie_gruneisen")
+      eos.emplace_back(materials::MieGruneisen{m.density, c.c0, c.s, c.gamma0});
+    else
+      throw DeckError(c.where, fmt::format("material '{}': the '{}' EOS arrives with the "
+                                           "solid-mechanics work and is not available yet",
+                                           m.name, c.type));
+  }
+  return eos;
+}
+
+const char* kernelName(KernelType k) {
+  switch (k) {
+  case KernelType::CubicSpline: return "cubic_spline";
+  case KernelType::WendlandC2: return "wendland_c2";
+  case KernelType::WendlandC4: return "wendland_c4";
+  }
+  return "?";
+}
+const char* densityName(DensityMethod d) {
+  switch (d) {
+  case DensityMethod::Continuity: return "continuity";
+  case DensityMethod::Summation: return "summation";
+  case DensityMethod::NormalizedSummation: return "normalized_summation";
+  }
+  return "?";
+}
+
+// Wall time by phase, for the closing summary and tools/bench.
+struct Phases {
+  double neighbors = 0, density = 0, forces = 0, integration = 0, boundaries = 0, output = 0;
+  template <class F> static void time(double& slot, F&& f) {
+    const auto t0 = Clock::now();
+    f();
+    slot += std::chrono::duration<double>(Clock::now() - t0).count();
+  }
+};
+
+// Everything a run of one dimension holds.
+template <int Dim> class Simulation {
+public:
+  Simulation(const Deck& deck, const parallel::MpiContext& mpi)
+      : deck_(deck), mpi_(mpi), eos_(buildEos(deck)) {
+    for (const auto& b : deck.bodies) {
+      if (b.insert_time > 0.0)
+        throw DeckError(b.where, fmt::format("body '{}': insert_time arrives with the penetration "
+                                             "work and is not available yet", b.name));
+    }
+    if (deck.checkpoint && mpi.root())
+      deferredWarnings_.push_back("[checkpoint] is accepted but not written yet: checkpoint/restart "
+                                  "arrives with its own issue");
+    baselineRss_ = residentBytes();
+    f_.registerIn(store_);
+    bodies_ = generateBodies<Dim>(deck, eos_, store_, f_);
+    applyEnergySources<Dim>(deck, store_, f_);
+    solver_ = solvers::makeSolver<Dim>({deck.solver, eos_}, store_, f_);
+    boundaries_ = std::make_unique<solvers::Boundaries<Dim>>(deck.boundaries, f_);
+    probes_ = std::make_unique<diagnostics::Probes<Dim>>(deck.probes);
+    resolveOutputFields();
+    solver_->equationOfState();
+  }
+
+  std::size_t particles() const { return store_.localCount(); }
+  const std::vector<BodySummary>& bodies() const { return bodies_; }
+  const std::vector<std::string>& warnings() const { return deferredWarnings_; }
+
+  // A rough peak estimate: stored fields, ghosts (~10%) and neighbor indices at the target n_h.
+  std::size_t memoryEstimate() const {
+    const double neighbors = std::pow(2.0 * 2.0 * deck_.solver.nodes_per_h, Dim) *
+                             (Dim == 3 ? 3.14159 / 6.0 : Dim == 2 ? 3.14159 / 4.0 : 1.0);
+    const double perParticle = 1.1 * static_cast<double>(store_.bytesPerParticle()) + 4.0 * neighbors + 16.0;
+    return static_cast<std::size_t>(perParticle * static_cast<double>(particles()));
+  }
+  double firstTimeStep() const {
+    const auto h = store_[f_.h];
+    const auto cs = store_[f_.cs];
+    const auto v = store_[f_.v];
+    double dt = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < store_.localCount(); ++i) {
+      const double signal = cs[i] + v[i].norm(); // before any force: sound and bulk speed
+      if (signal > 0.0) dt = std::min(dt, h[i] / signal);
+    }
+    return mpi_.min(deck_.solver.cfl * dt);
+  }
+
+  void run(const RunOptions& options, const fs::path& dir) {
+    RunLog log(mpi_.root() && !options.quiet);
+    const auto wall0 = Clock::now();
+    for (const auto& w : deferredWarnings_) log.warning(w);
+    banner(log, dir);
+    if (mpi_.root()) {
+      fs::create_directories(dir / "snapshots");
+      std::ofstream(dir / "deck.toml") << deck_.resolved_toml;
+      history_ = io::CsvLog((dir / "history.csv").string(),
+                            "step,time,dt,particles,mass,momentum_x,momentum_y,momentum_z,"
+                            "kinetic_energy,internal_energy,total_energy,wall_seconds");
+      if (!probes_->empty()) probesCsv_ = io::CsvLog((dir / "probes.csv").string(), "time,probe,field,value");
+    }
+    MPI_Barrier(mpi_.comm());
+    dir_ = dir;
+
+    probes_->attach(store_, f_, mpi_);
+    evaluate();
+    double dt = nextTimeStep();
+    totals0_ = diagnostics::computeTotals(store_, f_, mpi_);
+    record(0.0, 0, wall0);
+    writeSnapshot();
+
+    const double end = deck_.run.end_time;
+    double lastProgress = -1.0;
+    while (time_ < end * (1.0 - 1e-12) && step_ < deck_.run.max_steps) {
+      dt = clampToTargets(dt);
+      advance(dt);
+      record(dt, step_, wall0);
+      if (snapshotDue()) writeSnapshot();
+      const double wall = std::chrono::duration<double>(Clock::now() - wall0).count();
+      if (wall - lastProgress > 0.0) {
+        log.progress(step_, time_, end, dt, particles(), wall);
+        lastProgress = wall;
+      }
+      dt = nextTimeStep();
+    }
+    if (lastSnapshotStep_ != step_) writeSnapshot();
+    history_.flush();
+    probesCsv_.flush();
+    finish(log, options, wall0);
+  }
+
+private:
+  // ---- one force evaluation: ghosts, neighbors, density, rates -------------------------------
+  void evaluate() {
+    Phases::time(phases_.boundaries, [&] {
+      if (!solver_->usesSummationDensity()) solver_->equationOfState();
+      double hmax = 0.0;
+      for (double h : store_[f_.h].first(store_.localCount())) hmax = std::max(hmax, h);
+      boundaries_->buildGhosts(store_, solver_->support() * mpi_.max(hmax));
+    });
+    Phases::time(phases_.neighbors, [&] {
+      neighbors::buildNeighborList<Dim>(store_[f_.x], store_[f_.h], store_.localCount(),
+                                        solver_->support(), grid_, neighbors_);
+    });
+    pairCount_ += neighbors_.pairs();
+    if (solver_->usesSummationDensity()) {
+      Phases::time(phases_.density, [&] {
+        solver_->computeDensity(neighbors_);
+        solver_->equationOfState();
+        boundaries_->refreshGhosts(store_);
+      });
+    }
+    Phases::time(phases_.forces, [&] { solver_->computeRates(neighbors_); });
+  }
+
+  // ---- kick-drift-kick leapfrog ------------------------------------------------------------
+  // v_{n+1/2} = v_n + dt/2 a_n; x_{n+1} = x_n + dt v_{n+1/2}; v_{n+1} = v_{n+1/2} + dt/2 a_{n+1}
+  // (Lam et al. 2001, Sec. 4.2, in its kick-drift-kick form), with e and, for the continuity
+  // density, rho advanced the same way. The second half-kick is taken first with the old rates
+  // (a prediction for the force evaluation) and then corrected by dt/2 (new - old).
+  void advance(double dt) {
+    const bool continuity = !solver_->usesSummationDensity();
+    Phases::time(phases_.integration, [&] {
+      auto x = store_[f_.x];
+      auto v = store_[f_.v];
+      auto e = store_[f_.e];
+      auto rho = store_[f_.rho];
+      const auto a = store_[f_.a];
+      const auto dedt = store_[f_.dedt];
+      const auto drhodt = store_[f_.drhodt];
+      const std::size_t n = store_.localCount();
+      for (std::size_t i = 0; i < n; ++i) {
+        x[i] += dt * v[i] + (0.5 * dt * dt) * a[i];
+        v[i] += dt * a[i];
+        e[i] += dt * dedt[i];
+      }
+      if (continuity)
+        for (std::size_t i = 0; i < n; ++i) rho[i] += dt * drhodt[i];
+      store_.swapValues(f_.a, f_.aOld);
+      store_.swapValues(f_.dedt, f_.dedtOld);
+      store_.swapValues(f_.drhodt, f_.drhodtOld);
+      boundaries_->wrapPeriodic(store_);
+      if (step_ % 20 == 0) reorder();
+    });
+    evaluate();
+    Phases::time(phases_.integration, [&] {
+      auto v = store_[f_.v];
+      auto e = store_[f_.e];
+      auto rho = store_[f_.rho];
+      const auto a = store_[f_.a], aOld = store_[f_.aOld];
+      const auto dedt = store_[f_.dedt], dedtOld = store_[f_.dedtOld];
+      const auto drhodt = store_[f_.drhodt], drhodtOld = store_[f_.drhodtOld];
+      const double half = 0.5 * dt;
+      const std::size_t n = store_.localCount();
+      for (std::size_t i = 0; i < n; ++i) {
+        v[i] += half * (a[i] - aOld[i]);
+        e[i] += half * (dedt[i] - dedtOld[i]);
+      }
+      if (continuity)
+        for (std::size_t i = 0; i < n; ++i) rho[i] += half * (drhodt[i] - drhodtOld[i]);
+      solver_->equationOfState(); // p, cs of the corrected state (output, probes, next dt)
+      solver_->updateSmoothing();
+    });
+    time_ += dt;
+    ++step_;
+    checkFinite();
+  }
+
+  // Keeps owned particles in Morton order so neighbors stay close in memory.
+  void reorder() {
+    const auto order = neighbors::mortonOrder<Dim>(store_[f_.x].first(store_.localCount()));
+    store_.permuteLocal(order);
+  }
+
+  double nextTimeStep() {
+    const auto [dtLocal, which] = solver_->stableTimeStep();
+    const double dt = mpi_.min(dtLocal);
+    if (!(dt > 1e-14 * deck_.run.end_time) || !std::isfinite(dt)) {
+      std::string who = "no particle";
+      if (dtLocal == dt && store_.localCount() > 0) {
+        who = fmt::format("particle id {} (h = {:.3e} m, sound speed {:.3e} m/s, density {:.3e} kg/m^3)",
+                          store_[f_.id][which], store_[f_.h][which], store_[f_.cs][which],
+                          store_[f_.rho][which]);
+      }
+      throw RunError(fmt::format("time step collapsed to {:.3e} s at step {} (t = {:.6e} s), set by {}",
+                                 dt, step_, time_, who));
+    }
+    return dt;
+  }
+
+  // Shortens dt so that snapshot times and the end time are hit exactly; splits the last two
+  // steps before a target evenly rather than leaving a sliver.
+  double clampToTargets(double dt) const {
+    double target = deck_.run.end_time;
+    if (deck_.output.every > 0.0) target = std::min(target, nextSnapshotTime_);
+    const double left = target - time_;
+    if (left <= 0.0) return dt;
+    if (dt >= left) return left;
+    if (1.5 * dt > left) return 0.5 * left;
+    return dt;
+  }
+
+  void checkFinite() {
+    const auto id = store_[f_.id];
+    const auto x = store_[f_.x];
+    const auto v = store_[f_.v];
+    const auto e = store_[f_.e];
+    const auto rho = store_[f_.rho];
+    const auto h = store_[f_.h];
+    ParticleId bad = std::numeric_limits<ParticleId>::max();
+    int field = 0;
+    for (std::size_t i = 0; i < store_.localCount() && bad == std::numeric_limits<ParticleId>::max(); ++i) {
+      int fld = 0;
+      if (!x[i].allFinite()) fld = 1;
+      else if (!v[i].allFinite()) fld = 2;
+      else if (!std::isfinite(e[i])) fld = 3;
+      else if (!(rho[i] > 0.0) || !std::isfinite(rho[i])) fld = 4;
+      else if (!(h[i] > 0.0) || !std::isfinite(h[i])) fld = 5;
+      if (fld) bad = id[i], field = fld;
+    }
+    ParticleId first;
+    MPI_Allreduce(&bad, &first, 1, MPI_UINT64_T, MPI_MIN, mpi_.comm());
+    if (first == std::numeric_limits<ParticleId>::max()) return;
+    int code = first == bad ? field : 0, fieldCode = 0;
+    MPI_Allreduce(&code, &fieldCode, 1, MPI_INT, MPI_MAX, mpi_.comm());
+    static const char* names[] = {"", "position", "velocity", "specific_internal_energy",
+                                  "density (non-positive or non-finite)", "smoothing_length"};
+    throw RunError(fmt::format("non-finite state: field '{}' of particle id {} at step {} (t = {:.6e} s)",
+                               names[fieldCode], first, step_, time_));
+  }
+
+  // ---- output ---------------------------------------------------------------------------------
+  void resolveOutputFields() {
+    std::vector<std::string> available;
+    for (const auto& c : store_.columns())
+      if (c->info().flags & kOutput) available.push_back(c->info().name);
+    available.push_back("smoothing");
+    available.push_back("stress");
+    if (deck_.output.fields.empty()) {
+      outputFields_ = available;
+      return;
+    }
+    for (const auto& name : deck_.output.fields) {
+      if (std::find(available.begin(), available.end(), name) == available.end()) {
+        std::string list;
+        for (const auto& a : available) list += (list.empty() ? "" : ", ") + a;
+        throw DeckError(deck_.output.where,
+                        fmt::format("output field '{}' does not exist (available: {})", name, list));
+      }
+    }
+    outputFields_ = deck_.output.fields;
+    // Ids and positions are always written: without them a snapshot cannot be read.
+    for (const char* must : {"position", "id"})
+      if (std::find(outputFields_.begin(), outputFields_.end(), must) == outputFields_.end())
+        outputFields_.insert(outputFields_.begin(), must);
+  }
+
+  bool snapshotDue() const {
+    if (deck_.output.every_steps > 0 && step_ % deck_.output.every_steps == 0) return true;
+    return deck_.output.every > 0.0 && time_ >= nextSnapshotTime_ * (1.0 - 1e-12);
+  }
+
+  void writeSnapshot() {
+    Phases::time(phases_.output, [&] {
+      const std::size_t n = store_.localCount();
+      std::vector<io::SnapshotField> fields;
+      std::vector<FieldInfo> infos;
+      std::vector<Tensor<Dim>> smoothing, stress;
+      for (const auto& name : outputFields_) {
+        if (name == "smoothing") {
+          // H = I/h for SPH (INTERFACE.md: the H tensor).
+          smoothing.resize(n);
+          const auto h = store_[f_.h];
+          for (std::size_t i = 0; i < n; ++i) smoothing[i] = Tensor<Dim>::Identity() / h[i];
+          fields.push_back({FieldInfo{"smoothing", ScalarType::F64, {Dim, Dim}, kOutput}, smoothing.data()});
+        } else if (name == "stress") {
+          // Full Cauchy stress -p I + S; S = 0 on the hydro path.
+          stress.resize(n);
+          const auto p = store_[f_.p];
+          for (std::size_t i = 0; i < n; ++i) stress[i] = -p[i] * Tensor<Dim>::Identity();
+          fields.push_back({FieldInfo{"stress", ScalarType::F64, {Dim, Dim}, kOutput}, stress.data()});
+        } else {
+          const ColumnBase* c = store_.find(name);
+          fields.push_back({c->info(), c->raw()});
+        }
+        infos.push_back(fields.back().info);
+      }
+      const std::string base = fmt::format("snap_{:06d}", snapshotIndex_);
+      const fs::path snapDir = dir_ / "snapshots";
+      io::writeSnapshot(mpi_.comm(), (snapDir / (base + ".h5")).string(),
+                        {time_, step_, Dim, BuildInfo::version()}, n, fields);
+      const std::uint64_t global = mpi_.sum(static_cast<std::uint64_t>(n));
+      if (mpi_.root()) {
+        io::writeSnapshotXdmf((snapDir / (base + ".xmf")).string(), base + ".h5", time_, global, Dim, infos);
+        series_.emplace_back(time_, base + ".xmf");
+        io::writeSeriesXdmf((snapDir / "series.xmf").string(), series_);
+      }
+      ++snapshotIndex_;
+      lastSnapshotStep_ = step_;
+      if (deck_.output.every > 0.0)
+        while (nextSnapshotTime_ <= time_ * (1.0 + 1e-12)) nextSnapshotTime_ += deck_.output.every;
+    });
+  }
+
+  void record(double dt, std::int64_t step, Clock::time_point wall0) {
+    Phases::time(phases_.output, [&] {
+      if (step % deck_.output.history_every_steps != 0 && time_ < deck_.run.end_time) return;
+      const auto t = diagnostics::computeTotals(store_, f_, mpi_);
+      last_ = t;
+      const std::uint64_t n = mpi_.sum(static_cast<std::uint64_t>(store_.localCount()));
+      const double wall = std::chrono::duration<double>(Clock::now() - wall0).count();
+      if (history_.open())
+        history_.row(fmt::format("{},{:.17g},{:.17g},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.3f}",
+                                 step, time_, dt, n, t.mass, t.momentum[0], t.momentum[1], t.momentum[2],
+                                 t.kinetic, t.internal, t.total(), wall));
+      if (!probes_->empty()) {
+        const auto samples = probes_->sample(store_, f_, mpi_, solver_->support());
+        if (probesCsv_.open())
+          for (const auto& s : samples)
+            probesCsv_.row(fmt::format("{:.17g},{},{},{:.17g}", time_, s.probe, s.field, s.value));
+      }
+    });
+  }
+
+  void banner(RunLog& log, const fs::path& dir) {
+    std::vector<std::string> lines;
+    lines.push_back(fmt::format("spall {} (git {}): {}", BuildInfo::version(), BuildInfo::gitRevision(),
+                                deck_.run.title.empty() ? deck_.path : deck_.run.title));
+    lines.push_back(fmt::format("deck {} | {}D | {} {} n_h {:g} | density {} | {} rank{}", deck_.path, Dim,
+                                deck_.solver.method, kernelName(deck_.solver.kernel), deck_.solver.nodes_per_h,
+                                densityName(deck_.solver.density), mpi_.size(), mpi_.size() > 1 ? "s" : ""));
+    for (const auto& b : bodies_)
+      lines.push_back(fmt::format("  body {:<16} {:>10} particles  mass {:.6g} kg  spacing {:.4g} m", b.name,
+                                  b.particles, b.mass, b.spacing));
+    lines.push_back(fmt::format("particles {} | memory ~{:.1f} MB | end time {:.6g} s | output {}",
+                                particles(), memoryEstimate() / 1048576.0, deck_.run.end_time, dir.string()));
+    log.banner(lines);
+  }
+
+  void finish(RunLog& log, const RunOptions& options, Clock::time_point wall0) {
+    const double wall = std::chrono::duration<double>(Clock::now() - wall0).count();
+    const double pSteps = static_cast<double>(particles()) * static_cast<double>(step_);
+    const double rate = wall > 0.0 ? pSteps / wall : 0.0;
+    const auto& t = last_;
+    const double massErr = std::abs(t.mass - totals0_.mass) / totals0_.mass;
+    double momScale = 0.0, momErr = 0.0;
+    for (int d = 0; d < 3; ++d) {
+      momScale = std::max({momScale, std::abs(totals0_.momentum[d]), t.momentumScale[d], totals0_.momentumScale[d]});
+      momErr = std::max(momErr, std::abs(t.momentum[d] - totals0_.momentum[d]));
+    }
+    momErr = momScale > 0.0 ? momErr / momScale : 0.0;
+    const double e0 = totals0_.total();
+    const double energyErr = std::abs(t.total() - e0) / std::max(std::abs(e0), 1e-300);
+    const std::size_t peak = static_cast<std::size_t>(mpi_.sum(static_cast<double>(peakResidentBytes())));
+    const std::size_t base = static_cast<std::size_t>(mpi_.sum(static_cast<double>(baselineRss_)));
+    const double meanNeighbors = step_ + 1 > 0 ? static_cast<double>(pairCount_) / (static_cast<double>(step_ + 1) * std::max<double>(1.0, static_cast<double>(particles()))) : 0.0;
+    const double phaseSum = phases_.neighbors + phases_.density + phases_.forces + phases_.integration +
+                            phases_.boundaries + phases_.output;
+    log.summary({fmt::format("done: {} steps to t = {:.6g} s in {:.2f} s wall | {:.3g} particle-steps/s ({:.3g} per core)",
+                             step_, time_, wall, rate, rate / mpi_.size()),
+                 fmt::format("conservation: mass {:.1e} | momentum {:.1e} | total energy {:.1e} (relative)",
+                             massErr, momErr, energyErr),
+                 fmt::format("time: neighbors {:.1f}% density {:.1f}% forces {:.1f}% integration {:.1f}% boundaries {:.1f}% output {:.1f}%",
+                             100 * phases_.neighbors / wall, 100 * phases_.density / wall, 100 * phases_.forces / wall,
+                             100 * phases_.integration / wall, 100 * phases_.boundaries / wall, 100 * phases_.output / wall),
+                 fmt::format("output in {} (open snapshots/series.xmf in ParaView)", dir_.string())});
+    if (!mpi_.root()) return;
+    std::ofstream js(dir_ / "summary.json");
+    js << fmt::format(
+        "{{\n  \"deck\": \"{}\",\n  \"title\": \"{}\",\n  \"ranks\": {},\n  \"dimension\": {},\n"
+        "  \"particles\": {},\n  \"steps\": {},\n  \"time\": {:.17g},\n  \"wall_seconds\": {:.6f},\n"
+        "  \"particle_steps_per_second\": {:.6g},\n  \"particle_steps_per_second_per_core\": {:.6g},\n"
+        "  \"mean_neighbors\": {:.3f},\n  \"peak_rss_bytes\": {},\n  \"baseline_rss_bytes\": {},\n"
+        "  \"bytes_per_particle\": {:.1f},\n"
+        "  \"phases\": {{\"neighbors\": {:.6f}, \"density\": {:.6f}, \"forces\": {:.6f}, \"integration\": {:.6f}, "
+        "\"boundaries\": {:.6f}, \"output\": {:.6f}, \"other\": {:.6f}}},\n"
+        "  \"conservation\": {{\"mass_relative\": {:.6e}, \"momentum_relative\": {:.6e}, \"energy_relative\": {:.6e}}}\n}}\n",
+        jsonEscape(options.deckPath), jsonEscape(deck_.run.title), mpi_.size(), Dim, particles(), step_, time_, wall,
+        rate, rate / mpi_.size(), meanNeighbors, peak, base,
+        particles() > 0 ? static_cast<double>(peak - std::min(peak, base)) / static_cast<double>(particles()) : 0.0,
+        phases_.neighbors, phases_.density, phases_.forces, phases_.integration, phases_.boundaries, phases_.output,
+        std::max(0.0, wall - phaseSum), massErr, momErr, energyErr);
+  }
+
+  static std::string jsonEscape(const std::string& s) {
+    std::string o;
+    for (char c : s) {
+      if (c == '"' || c == '\\') o += '\\';
+      o += c;
+    }
+    return o;
+  }
+
+  const Deck& deck_;
+  const parallel::MpiContext& mpi_;
+  std::vector<materials::Eos> eos_;
+  ParticleStore store_;
+  solvers::SphFields<Dim> f_;
+  std::vector<BodySummary> bodies_;
+  std::unique_ptr<solvers::Solver<Dim>> solver_;
+  std::unique_ptr<solvers::Boundaries<Dim>> boundaries_;
+  std::unique_ptr<diagnostics::Probes<Dim>> probes_;
+  neighbors::CellGrid<Dim> grid_;
+  neighbors::NeighborList neighbors_;
+  std::vector<std::string> outputFields_;
+  std::vector<std::string> deferredWarnings_;
+  std::vector<std::pair<double, std::string>> series_;
+  io::CsvLog history_, probesCsv_;
+  fs::path dir_;
+  Phases phases_;
+  diagnostics::Totals totals0_, last_;
+  double time_ = 0.0;
+  double nextSnapshotTime_ = 0.0;
+  std::int64_t step_ = 0;
+  std::int64_t lastSnapshotStep_ = -1;
+  int snapshotIndex_ = 0;
+  std::size_t pairCount_ = 0;
+  std::size_t baselineRss_ = 0;
+};
+
+// Refuses to touch a directory that holds results, unless asked to; with --overwrite, removes
+// only what a run writes there.
+void prepareOutputDirectory(const fs::path& dir, const RunOptions& options) {
+  static const char* ours[] = {"deck.toml", "history.csv", "probes.csv", "summary.json", "snapshots", "checkpoints"};
+  if (!fs::exists(dir)) return;
+  if (!fs::is_directory(dir)) throw UsageError(fmt::format("output path '{}' exists and is not a directory", dir.string()));
+  bool hasResults = false;
+  for (const char* name : ours) hasResults = hasResults || fs::exists(dir / name);
+  if (!hasResults) return;
+  if (!options.overwrite)
+    throw UsageError(fmt::format("output directory '{}' already holds results; pass --overwrite to replace "
+                                 "them or --output DIR to write elsewhere",
+                                 dir.string()));
+  for (const char* name : ours) fs::remove_all(dir / name);
+}
+
+template <int Dim> void runDim(const Deck& deck, const RunOptions& options, const parallel::MpiContext& mpi) {
+  Simulation<Dim> sim(deck, mpi); // every deck error surfaces here, before anything is written
+  const fs::path dir = options.outputDir ? fs::path(*options.outputDir) : fs::path(deck.output.directory);
+  int ok = 1;
+  std::string message;
+  if (mpi.root()) {
+    try {
+      prepareOutputDirectory(dir, options);
+    } catch (const UsageError& e) {
+      ok = 0;
+      message = e.what();
+    }
+  }
+  MPI_Bcast(&ok, 1, MPI_INT, 0, mpi.comm());
+  if (!ok) throw UsageError(mpi.root() ? message : std::string("output directory refused"));
+  sim.run(options, dir);
+}
+
+template <int Dim> void checkDim(const Deck& deck, const parallel::MpiContext& mpi) {
+  Simulation<Dim> sim(deck, mpi);
+  const double dt = sim.firstTimeStep();
+  if (!mpi.root()) return;
+  fmt::print("deck {}: OK\n", deck.path);
+  if (!deck.run.title.empty()) fmt::print("  title      {}\n", deck.run.title);
+  fmt::print("  dimension  {}D, solver {} ({}, n_h {:g}, density {})\n", Dim, deck.solver.method,
+             kernelName(deck.solver.kernel), deck.solver.nodes_per_h, densityName(deck.solver.density));
+  for (const auto& b : sim.bodies())
+    fmt::print("  body       {:<16} {:>10} particles  mass {:.6g} kg  spacing {:.4g} m\n", b.name, b.particles,
+               b.mass, b.spacing);
+  fmt::print("  particles  {}\n  memory     ~{:.1f} MB (estimate)\n", sim.particles(), sim.memoryEstimate() / 1048576.0);
+  fmt::print("  first dt   {:.4g} s (before viscosity; end time {:.6g} s)\n", dt, deck.run.end_time);
+  fmt::print("  output     {}\n", deck.output.directory);
+  for (const auto& w : sim.warnings()) fmt::print("  warning    {}\n", w);
+}
+
+} // namespace
+
+void runDeck(const Deck& deck, const RunOptions& options, const parallel::MpiContext& mpi) {
+  if (options.restart)
+    throw UsageError("--restart arrives with checkpoint/restart chains and is not available yet");
+  if (mpi.size() > 1)
+    throw UsageError("this build runs on 1 MPI rank; the domain decomposition that spreads a run over "
+                     "several ranks is not available yet");
+  switch (deck.run.dimension) {
+  case 1: return runDim<1>(deck, options, mpi);
+  case 2: return runDim<2>(deck, options, mpi);
+  default: return runDim<3>(deck, options, mpi);
+  }
+}
+
+void checkDeck(const Deck& deck, const parallel::MpiContext& mpi) {
+  switch (deck.run.dimension) {
+  case 1: return checkDim<1>(deck, mpi);
+  case 2: return checkDim<2>(deck, mpi);
+  default: return checkDim<3>(deck, mpi);
+  }
+}
+
+} // namespace spall::app

@@ -1,0 +1,93 @@
+// spall: the command line (INTERFACE.md). Exit codes: 0 finished, 1 the run failed, 2 usage or
+// deck error (nothing run, nothing written).
+#include "spall/app/Run.hpp"
+#include "spall/app/SystemInfo.hpp"
+#include "spall/core/Error.hpp"
+#include "spall/io/Deck.hpp"
+#include "spall/parallel/Mpi.hpp"
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+namespace {
+
+int fail(const spall::parallel::MpiContext& mpi, int code, const std::string& message) {
+  if (mpi.root()) fmt::print(stderr, "{}\n", message);
+  return code;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  spall::parallel::MpiSession session(argc, argv);
+  spall::parallel::MpiContext mpi;
+
+  CLI::App cli{"spall: a particle hydrocode for impact, penetration and fragmentation of solids"};
+  cli.set_version_flag("--version", std::string("spall ") + spall::app::BuildInfo::version());
+  cli.require_subcommand(1);
+
+  spall::app::RunOptions run;
+  std::string outputDir, restart;
+  auto* runCmd = cli.add_subcommand("run", "run a deck");
+  runCmd->add_option("deck", run.deckPath, "deck file (TOML)")->required();
+  runCmd->add_option("--set", run.overrides, "override a deck value: KEY=VALUE (dotted path)");
+  runCmd->add_option("--restart", restart, "continue from a checkpoint: latest or a path");
+  runCmd->add_option("--output", outputDir, "output directory (default: the deck's output.directory)");
+  runCmd->add_flag("--overwrite", run.overwrite, "replace results already in the output directory");
+  runCmd->add_flag("--quiet", run.quiet, "print errors only");
+
+  std::string checkDeckPath;
+  std::vector<std::string> checkOverrides;
+  auto* checkCmd = cli.add_subcommand("check", "parse and validate a deck, print a summary; runs nothing");
+  checkCmd->add_option("deck", checkDeckPath, "deck file (TOML)")->required();
+  checkCmd->add_option("--set", checkOverrides, "override a deck value: KEY=VALUE");
+
+  auto* infoCmd = cli.add_subcommand("info", "version, git revision, compiler, MPI, HDF5, METIS, features");
+
+  auto* elementCmd = cli.add_subcommand("element", "single-element constitutive driver (not available yet)");
+  elementCmd->allow_extras();
+  auto* historyCmd = cli.add_subcommand("history", "a particle's deformation history (not available yet)");
+  historyCmd->allow_extras();
+
+  try {
+    cli.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help and --version are "errors" with exit code 0 in CLI11.
+    int code = 0;
+    if (mpi.root()) code = cli.exit(e);
+    else code = e.get_exit_code();
+    return code == 0 ? 0 : 2;
+  }
+
+  try {
+    if (*infoCmd) {
+      if (mpi.root()) fmt::print("{}", spall::app::infoText());
+      return 0;
+    }
+    if (*elementCmd || *historyCmd)
+      return fail(mpi, 2, "error: this command arrives with the geomaterials work and is not available yet");
+    if (*checkCmd) {
+      const auto deck = spall::loadDeck(checkDeckPath, checkOverrides);
+      spall::app::checkDeck(deck, mpi);
+      return 0;
+    }
+    if (!outputDir.empty()) run.outputDir = outputDir;
+    if (!restart.empty()) run.restart = restart;
+    const auto deck = spall::loadDeck(run.deckPath, run.overrides);
+    spall::app::runDeck(deck, run, mpi);
+    return 0;
+  } catch (const spall::DeckError& e) {
+    return fail(mpi, 2, e.formatted());
+  } catch (const spall::UsageError& e) {
+    return fail(mpi, 2, std::string("error: ") + e.what());
+  } catch (const spall::RunError& e) {
+    // Run failures are detected collectively (global reductions), so every rank gets here.
+    if (mpi.size() == 1) return fail(mpi, 1, std::string("error: ") + e.what());
+    fmt::print(stderr, "error (rank {}): {}\n", mpi.rank(), e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "internal error (rank {}): {}\n", mpi.rank(), e.what());
+    MPI_Abort(mpi.comm(), 1);
+    return 1;
+  }
+}

@@ -1,0 +1,153 @@
+#include "spall/diagnostics/Probes.hpp"
+
+#include "spall/kernels/Kernels.hpp"
+
+#include <cmath>
+#include <fmt/format.h>
+#include <limits>
+
+namespace spall::diagnostics {
+
+namespace {
+const char* kAxes = "xyz";
+
+template <int Dim>
+double fieldValue(const ProbeField& pf, const ParticleStore& s, const solvers::SphFields<Dim>& f,
+                  std::size_t i) {
+  switch (pf.kind) {
+  case ProbeField::Kind::Position: return s[f.x][i][pf.a];
+  case ProbeField::Kind::Velocity: return s[f.v][i][pf.a];
+  // Cauchy stress sigma = -p I + S; S = 0 on the hydro path.
+  case ProbeField::Kind::Stress: return pf.a == pf.b ? -s[f.p][i] : 0.0;
+  case ProbeField::Kind::Pressure: return s[f.p][i];
+  case ProbeField::Kind::Density: return s[f.rho][i];
+  case ProbeField::Kind::Energy: return s[f.e][i];
+  case ProbeField::Kind::SoundSpeed: return s[f.cs][i];
+  case ProbeField::Kind::Mass: return s[f.m][i];
+  case ProbeField::Kind::SmoothingLength: return s[f.h][i];
+  }
+  return 0.0;
+}
+} // namespace
+
+std::vector<std::string> probeFieldNames(int dim) {
+  std::vector<std::string> names;
+  for (int a = 0; a < dim; ++a) names.push_back(fmt::format("position_{}", kAxes[a]));
+  for (int a = 0; a < dim; ++a) names.push_back(fmt::format("velocity_{}", kAxes[a]));
+  for (int a = 0; a < dim; ++a)
+    for (int b = 0; b < dim; ++b) names.push_back(fmt::format("stress_{}{}", kAxes[a], kAxes[b]));
+  for (const char* n : {"pressure", "density", "specific_internal_energy", "sound_speed", "mass",
+                        "smoothing_length"})
+    names.emplace_back(n);
+  return names;
+}
+
+ProbeField resolveProbeField(const std::string& name, int dim, const SourceLocation& where) {
+  using K = ProbeField::Kind;
+  auto axis = [&](char c) -> int {
+    for (int a = 0; a < dim; ++a)
+      if (kAxes[a] == c) return a;
+    return -1;
+  };
+  if (name.rfind("position_", 0) == 0 && name.size() == 10 && axis(name[9]) >= 0)
+    return {K::Position, axis(name[9]), 0, name};
+  if (name.rfind("velocity_", 0) == 0 && name.size() == 10 && axis(name[9]) >= 0)
+    return {K::Velocity, axis(name[9]), 0, name};
+  if (name.rfind("stress_", 0) == 0 && name.size() == 9 && axis(name[7]) >= 0 && axis(name[8]) >= 0)
+    return {K::Stress, axis(name[7]), axis(name[8]), name};
+  if (name == "pressure") return {K::Pressure, 0, 0, name};
+  if (name == "density") return {K::Density, 0, 0, name};
+  if (name == "specific_internal_energy") return {K::Energy, 0, 0, name};
+  if (name == "sound_speed") return {K::SoundSpeed, 0, 0, name};
+  if (name == "mass") return {K::Mass, 0, 0, name};
+  if (name == "smoothing_length") return {K::SmoothingLength, 0, 0, name};
+  std::string list;
+  for (const auto& n : probeFieldNames(dim)) list += (list.empty() ? "" : ", ") + n;
+  throw DeckError(where, fmt::format("unknown probe field '{}' in {}D (available: {})", name, dim, list));
+}
+
+template <int Dim> Probes<Dim>::Probes(const std::vector<ProbeConfig>& config) {
+  for (const auto& c : config) {
+    Probe p{c, {}, 0, 0};
+    for (const auto& name : c.fields) p.fields.push_back(resolveProbeField(name, Dim, c.where));
+    probes_.push_back(std::move(p));
+  }
+}
+
+template <int Dim>
+void Probes<Dim>::attach(const ParticleStore& s, const solvers::SphFields<Dim>& f,
+                         const parallel::MpiContext& mpi) {
+  const auto x = s[f.x];
+  const auto id = s[f.id];
+  for (auto& p : probes_) {
+    if (p.config.track != "material") continue;
+    Vec<Dim> at;
+    for (int d = 0; d < Dim; ++d) at[d] = p.config.position[d];
+    double best = std::numeric_limits<double>::infinity();
+    ParticleId bestId = std::numeric_limits<ParticleId>::max();
+    for (std::size_t i = 0; i < s.localCount(); ++i) {
+      const double d = (x[i] - at).squaredNorm();
+      if (d < best || (d == best && id[i] < bestId)) best = d, bestId = id[i];
+    }
+    const double global = mpi.min(best);
+    ParticleId candidate = best == global ? bestId : std::numeric_limits<ParticleId>::max();
+    ParticleId chosen;
+    MPI_Allreduce(&candidate, &chosen, 1, MPI_UINT64_T, MPI_MIN, mpi.comm());
+    p.particle = chosen;
+  }
+}
+
+template <int Dim>
+std::vector<ProbeSample> Probes<Dim>::sample(const ParticleStore& s, const solvers::SphFields<Dim>& f,
+                                             const parallel::MpiContext& mpi, double support) {
+  std::vector<ProbeSample> out;
+  const auto id = s[f.id];
+  const auto x = s[f.x];
+  for (auto& p : probes_) {
+    // Local contributions: [value..., weight] summed over ranks in rank order.
+    std::vector<double> acc(p.fields.size() + 1, 0.0);
+    if (p.config.track == "material") {
+      std::size_t i = p.cachedIndex;
+      if (i >= s.localCount() || id[i] != p.particle) {
+        i = s.localCount();
+        for (std::size_t k = 0; k < s.localCount(); ++k)
+          if (id[k] == p.particle) {
+            i = k;
+            break;
+          }
+      }
+      if (i < s.localCount()) {
+        p.cachedIndex = i;
+        for (std::size_t k = 0; k < p.fields.size(); ++k) acc[k] = fieldValue(p.fields[k], s, f, i);
+        acc.back() = 1.0;
+      }
+    } else {
+      Vec<Dim> at;
+      for (int d = 0; d < Dim; ++d) at[d] = p.config.position[d];
+      using W = kernels::Kernel<kernels::CubicSpline<Dim>, Dim>;
+      const auto h = s[f.h];
+      const auto m = s[f.m];
+      const auto rho = s[f.rho];
+      for (std::size_t i = 0; i < s.localCount(); ++i) {
+        const double r = (x[i] - at).norm();
+        if (r >= support * h[i]) continue;
+        const double w = m[i] / rho[i] * W::W(r, h[i]);
+        for (std::size_t k = 0; k < p.fields.size(); ++k) acc[k] += w * fieldValue(p.fields[k], s, f, i);
+        acc.back() += w;
+      }
+    }
+    mpi.sumInRankOrder(acc);
+    const double weight = acc.back();
+    for (std::size_t k = 0; k < p.fields.size(); ++k) {
+      const double value = weight > 0.0 ? acc[k] / weight : std::numeric_limits<double>::quiet_NaN();
+      out.push_back({p.config.name, p.fields[k].name, value});
+    }
+  }
+  return out;
+}
+
+template class Probes<1>;
+template class Probes<2>;
+template class Probes<3>;
+
+} // namespace spall::diagnostics

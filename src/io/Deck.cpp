@@ -1,0 +1,508 @@
+// Deck reading: parse (toml++), apply --set overrides, then validate into the typed config. Each
+// check reports the position of the value it rejects (INTERFACE.md, "Bad input").
+#include "spall/io/Deck.hpp"
+
+#include "DeckDetail.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <sstream>
+
+namespace spall {
+
+namespace {
+
+using io::deck_detail::Context;
+using io::deck_detail::Names;
+using io::deck_detail::TableReader;
+namespace dd = io::deck_detail;
+
+std::string readText(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw DeckError({path, 0, 0}, "cannot read the deck: no such file");
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in) throw DeckError({path, 0, 0}, "cannot read the deck");
+  return text.str();
+}
+
+double norm(const std::vector<double>& v) {
+  double s = 0.0;
+  for (double x : v) s += x * x;
+  return std::sqrt(s);
+}
+
+double determinant(const std::vector<std::vector<double>>& m) {
+  switch (m.size()) {
+  case 1:
+    return m[0][0];
+  case 2:
+    return m[0][0] * m[1][1] - m[0][1] * m[1][0];
+  default:
+    return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+           m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+           m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+  }
+}
+
+int toInt(const TableReader& r, std::string_view key, std::int64_t v, std::int64_t lowest) {
+  r.check(v >= lowest && v <= std::numeric_limits<int>::max(), key,
+          ">= " + std::to_string(lowest) + " (and fit an int)", static_cast<double>(v));
+  return static_cast<int>(v);
+}
+
+class DeckReader {
+public:
+  DeckReader(const toml::table& root, const std::string& path) : root_(root), path_(path) {}
+  void read(Deck& deck);
+
+private:
+  TableReader reader(const toml::table& t, Context c) const { return {t, std::move(c), path_}; }
+  std::vector<double> point(const TableReader& r, std::string_view key) const {
+    return r.required(r.vector(key, dimension_), key);
+  }
+  std::string readName(const TableReader& r, std::string_view kind,
+                       std::map<std::string, SourceLocation>& seen) const;
+
+  void readRun(const TableReader& r, RunConfig& run);
+  void readSolver(const TableReader& r, SolverConfig& s) const;
+  void readDecomposition(const TableReader& r, DecompositionConfig& d) const;
+  void readMaterial(const TableReader& r, MaterialConfig& m) const;
+  void readEos(const TableReader& r, EosConfig& e) const;
+  void readBody(const TableReader& r, const std::vector<MaterialConfig>& materials,
+                BodyConfig& b) const;
+  void readShape(const TableReader& r, ShapeConfig& s) const;
+  void readEnergySource(const TableReader& r, EnergySourceConfig& e) const;
+  void readBoundary(const TableReader& r, BoundaryConfig& b) const;
+  void readOutput(const TableReader& r, OutputConfig& o) const;
+  void readCheckpoint(const TableReader& r, CheckpointConfig& c) const;
+  void readProbe(const TableReader& r, ProbeConfig& p) const;
+
+  const toml::table& root_;
+  const std::string& path_;
+  std::size_t dimension_ = 0;
+};
+
+void DeckReader::read(Deck& deck) {
+  const TableReader top(root_, Context{}, path_);
+  top.allowOnly(*dd::schemaKeys(""));
+  const SourceLocation start{path_, 1, 1}; // where a missing top-level table is reported
+
+  const toml::table* run = top.subtable("run");
+  if (!run) throw DeckError(start, "missing required table [run]");
+  readRun(reader(*run, Context{}.child("run")), deck.run);
+  if (const auto* t = top.subtable("solver"))
+    readSolver(reader(*t, Context{}.child("solver")), deck.solver);
+  if (const auto* t = top.subtable("decomposition"))
+    readDecomposition(reader(*t, Context{}.child("decomposition")), deck.decomposition);
+
+  // Each [[kind]] entry, read by `read` into `out`.
+  const auto entries = [&](std::string_view kind, auto& out, auto&& read) {
+    const auto tables = top.tables(kind);
+    for (std::size_t i = 0; i < tables.size(); ++i) {
+      read(reader(*tables[i], Context::entry(kind, *tables[i], i)), out.emplace_back());
+    }
+    return tables.size();
+  };
+
+  std::map<std::string, SourceLocation> names;
+  if (entries("material", deck.materials, [&](const TableReader& r, MaterialConfig& m) {
+        m.name = readName(r, "material", names);
+        readMaterial(r, m);
+      }) == 0)
+    throw DeckError(top.whereValue("material"), "the deck needs at least one [[material]]");
+
+  names.clear();
+  if (entries("body", deck.bodies, [&](const TableReader& r, BodyConfig& b) {
+        b.name = readName(r, "body", names);
+        readBody(r, deck.materials, b);
+      }) == 0)
+    throw DeckError(top.whereValue("body"), "the deck needs at least one [[body]]");
+
+  entries("energy_source", deck.energy_sources,
+          [&](const TableReader& r, EnergySourceConfig& e) { readEnergySource(r, e); });
+  entries("boundary", deck.boundaries,
+          [&](const TableReader& r, BoundaryConfig& b) { readBoundary(r, b); });
+
+  const toml::table* output = top.subtable("output");
+  if (!output) throw DeckError(start, "missing required table [output]");
+  readOutput(reader(*output, Context{}.child("output")), deck.output);
+  if (const auto* t = top.subtable("checkpoint"))
+    readCheckpoint(reader(*t, Context{}.child("checkpoint")), deck.checkpoint.emplace());
+
+  names.clear();
+  entries("probe", deck.probes, [&](const TableReader& r, ProbeConfig& p) {
+    p.name = readName(r, "probe", names);
+    readProbe(r, p);
+  });
+}
+
+// Names address entries in messages and in --set paths, so they are unique and dot-free.
+std::string DeckReader::readName(const TableReader& r, std::string_view kind,
+                                 std::map<std::string, SourceLocation>& seen) const {
+  const std::string name = r.required(r.string("name"), "name");
+  if (name.empty() || name.find('.') != std::string::npos)
+    r.fail("name", std::string(kind) + " name '" + name +
+                       "' must be non-empty and free of '.' (--set addresses entries by it)");
+  const auto [it, inserted] = seen.emplace(name, r.whereValue("name"));
+  if (!inserted) {
+    std::string m = "duplicate " + std::string(kind) + " name '" + name + "'";
+    if (it->second.line > 0) m += " (first at line " + std::to_string(it->second.line) + ")";
+    r.fail("name", m);
+  }
+  return name;
+}
+
+void DeckReader::readRun(const TableReader& r, RunConfig& run) {
+  r.allowOnly(*dd::schemaKeys("run"));
+  run.title = r.string("title").value_or("");
+  const std::int64_t dim = r.required(r.integer("dimension"), "dimension");
+  r.check(dim >= 1 && dim <= 3, "dimension", "1, 2 or 3", static_cast<double>(dim));
+  run.dimension = static_cast<int>(dim);
+  dimension_ = static_cast<std::size_t>(dim);
+  run.end_time = r.required(r.number("end_time"), "end_time");
+  r.check(run.end_time > 0.0, "end_time", "> 0", run.end_time);
+  if (const auto v = r.integer("max_steps")) {
+    r.check(*v >= 0, "max_steps", ">= 0", static_cast<double>(*v));
+    run.max_steps = *v;
+  }
+  if (const auto v = r.number("resolution")) {
+    r.check(*v > 0.0, "resolution", "> 0", *v);
+    run.resolution = *v;
+  }
+  if (const auto v = r.integer("seed")) {
+    r.check(*v >= 0, "seed", ">= 0", static_cast<double>(*v));
+    run.seed = static_cast<std::uint64_t>(*v);
+  }
+}
+
+void DeckReader::readSolver(const TableReader& r, SolverConfig& s) const {
+  r.allowOnly(*dd::schemaKeys("solver"));
+  if (const auto method = r.string("method"); method && (*method == "asph" || *method == "mpm"))
+    r.fail("method",
+           r.quoted("method") + ": '" + *method + "' is not available yet (available: sph)");
+  s.method = r.choice("method", {"sph"}, "sph");
+
+  const std::string kernel =
+      r.choice("kernel", {"cubic_spline", "wendland_c2", "wendland_c4"}, "cubic_spline");
+  s.kernel = kernel == "wendland_c2"   ? KernelType::WendlandC2
+             : kernel == "wendland_c4" ? KernelType::WendlandC4
+                                       : KernelType::CubicSpline;
+  const std::string density =
+      r.choice("density", {"continuity", "summation", "normalized_summation"}, "continuity");
+  s.density = density == "summation"              ? DensityMethod::Summation
+              : density == "normalized_summation" ? DensityMethod::NormalizedSummation
+                                                  : DensityMethod::Continuity;
+  if (const auto v = r.number("nodes_per_h")) {
+    r.check(*v > 0.0, "nodes_per_h", "> 0", *v);
+    s.nodes_per_h = *v;
+  }
+  if (const auto v = r.number("cfl")) {
+    r.check(*v > 0.0 && *v <= 1.0, "cfl", "in (0, 1]", *v);
+    s.cfl = *v;
+  }
+  if (const auto* t = r.subtable("artificial_viscosity")) {
+    const TableReader av = reader(*t, r.context().child("artificial_viscosity"));
+    av.allowOnly(*dd::schemaKeys("solver.artificial_viscosity"));
+    auto& c = s.artificial_viscosity;
+    c.alpha = av.number("alpha").value_or(c.alpha);
+    av.check(c.alpha >= 0.0, "alpha", ">= 0", c.alpha);
+    c.beta = av.number("beta").value_or(c.beta);
+    av.check(c.beta >= 0.0, "beta", ">= 0", c.beta);
+    c.balsara = av.boolean("balsara").value_or(c.balsara);
+  }
+  s.h_min = r.number("h_min").value_or(s.h_min);
+  r.check(s.h_min >= 0.0, "h_min", ">= 0", s.h_min);
+  s.h_max = r.number("h_max", true).value_or(s.h_max);
+  r.check(s.h_max > s.h_min, "h_max", "> h_min (" + dd::formatNumber(s.h_min) + ")", s.h_max);
+  s.h_max_ratio = r.number("h_max_ratio").value_or(s.h_max_ratio);
+  r.check(s.h_max_ratio > 0.0, "h_max_ratio", "> 0", s.h_max_ratio);
+}
+
+void DeckReader::readDecomposition(const TableReader& r, DecompositionConfig& d) const {
+  r.allowOnly(*dd::schemaKeys("decomposition"));
+  d.curve = r.choice("curve", {"hilbert", "morton"}, d.curve);
+  d.partitioner = r.choice("partitioner", {"sfc", "metis"}, d.partitioner);
+  if (const auto v = r.integer("rebalance_every"))
+    d.rebalance_every = toInt(r, "rebalance_every", *v, 0);
+}
+
+void DeckReader::readMaterial(const TableReader& r, MaterialConfig& m) const {
+  for (const std::string_view later : {"damage", "erosion", "porosity"})
+    if (r.has(later))
+      r.fail(later,
+             "'" + std::string(later) + "' in " + r.context().human + " is not available yet");
+  r.allowOnly(*dd::schemaKeys("material"));
+  m.where = r.where();
+  m.density = r.required(r.number("density"), "density");
+  r.check(m.density > 0.0, "density", "> 0", m.density);
+  const toml::table* eos = r.subtable("eos");
+  if (!eos) r.missing("eos");
+  readEos(reader(*eos, r.context().child("eos")), m.eos);
+
+  if (const toml::table* t = r.subtable("strength")) {
+    const TableReader s = reader(*t, r.context().child("strength"));
+    const auto type = s.string("type");
+    if (type &&
+        (*type == "elastic" || *type == "von_mises" || *type == "johnson_cook" || *type == "cap"))
+      s.fail("type", "strength type '" + *type + "' is not available yet (available: none)");
+    m.strength = s.choice("type", {"none"}, std::nullopt);
+    s.allowOnly(*dd::schemaKeys("material.strength"));
+  }
+}
+
+void DeckReader::readEos(const TableReader& r, EosConfig& e) const {
+  e.where = r.where();
+  e.type = r.choice("type", dd::typeNames("material.eos"), std::nullopt);
+  const Names& params = dd::typedKeys("material.eos", e.type);
+  Names keys{"type"};
+  keys.insert(keys.end(), params.begin(), params.end());
+  r.allowOnly(keys, "eos type '" + e.type + "' takes: " + dd::joined(params));
+  const auto need = [&](std::string_view key) { return r.required(r.number(key), key); };
+  if (e.type == "ideal_gas") {
+    e.gamma = need("gamma");
+    r.check(e.gamma > 1.0, "gamma", "> 1", e.gamma);
+  } else if (e.type == "linear") {
+    e.bulk_modulus = need("bulk_modulus");
+    r.check(e.bulk_modulus > 0.0, "bulk_modulus", "> 0", e.bulk_modulus);
+  } else if (e.type == "mie_gruneisen") {
+    e.c0 = need("c0");
+    r.check(e.c0 > 0.0, "c0", "> 0", e.c0);
+    e.s = need("s");
+    e.gamma0 = need("gamma0");
+  } else { // tillotson
+    e.a = need("a");
+    e.b = need("b");
+    e.A = need("A");
+    e.B = need("B");
+    e.alpha = need("alpha");
+    e.beta = need("beta");
+    e.e0 = need("e0");
+    e.e_iv = need("e_iv");
+    e.e_cv = need("e_cv");
+    r.check(e.a >= 0.0, "a", ">= 0", e.a);
+    r.check(e.b >= 0.0, "b", ">= 0", e.b);
+    r.check(e.A > 0.0, "A", "> 0", e.A);
+    r.check(e.alpha >= 0.0, "alpha", ">= 0", e.alpha);
+    r.check(e.beta >= 0.0, "beta", ">= 0", e.beta);
+    r.check(e.e0 > 0.0, "e0", "> 0", e.e0);
+    r.check(e.e_iv > 0.0, "e_iv", "> 0", e.e_iv);
+    r.check(e.e_cv > e.e_iv, "e_cv", "> e_iv (" + dd::formatNumber(e.e_iv) + ")", e.e_cv);
+  }
+}
+
+void DeckReader::readBody(const TableReader& r, const std::vector<MaterialConfig>& materials,
+                          BodyConfig& b) const {
+  r.allowOnly(*dd::schemaKeys("body"));
+  b.where = r.where();
+  b.material = r.required(r.string("material"), "material");
+  Names known;
+  for (std::size_t i = 0; i < materials.size(); ++i) {
+    known.push_back(materials[i].name);
+    if (materials[i].name == b.material) b.material_index = static_cast<int>(i);
+  }
+  if (b.material_index < 0)
+    r.fail("material", r.quoted("material") + " names no [[material]]: '" + b.material + "'" +
+                           dd::didYouMean(b.material, known) + " (materials: " + dd::joined(known) +
+                           ")");
+
+  const toml::table* shape = r.subtable("shape");
+  if (!shape) r.missing("shape");
+  readShape(reader(*shape, r.context().child("shape")), b.shape);
+  b.spacing = r.required(r.number("spacing"), "spacing");
+  r.check(b.spacing > 0.0, "spacing", "> 0", b.spacing);
+  b.lattice = r.choice("lattice", {"cubic", "hexagonal"}, b.lattice);
+  b.velocity = r.vector("velocity", dimension_).value_or(std::vector<double>(dimension_, 0.0));
+
+  b.initial_density = r.number("initial_density");
+  if (b.initial_density)
+    r.check(*b.initial_density > 0.0, "initial_density", "> 0", *b.initial_density);
+  b.initial_specific_energy = r.number("initial_specific_energy");
+  if (b.initial_specific_energy)
+    r.check(*b.initial_specific_energy >= 0.0, "initial_specific_energy", ">= 0",
+            *b.initial_specific_energy);
+  b.initial_pressure = r.number("initial_pressure");
+  // Both would set the internal energy; which one wins is not for the reader to guess.
+  if (b.initial_pressure && b.initial_specific_energy)
+    r.fail("initial_pressure", r.quoted("initial_pressure") +
+                                   " cannot be combined with initial_specific_energy (both set "
+                                   "the internal energy; give one)");
+
+  b.jitter = r.number("jitter").value_or(0.0);
+  r.check(b.jitter >= 0.0 && b.jitter < 0.5, "jitter", "in [0, 0.5) (a fraction of the spacing)",
+          b.jitter);
+  if (const toml::table* t = r.subtable("radial_velocity")) {
+    const TableReader rv = reader(*t, r.context().child("radial_velocity"));
+    rv.allowOnly(*dd::schemaKeys("body.radial_velocity"));
+    b.radial_velocity =
+        RadialVelocityConfig{point(rv, "center"), rv.required(rv.number("speed"), "speed")};
+  }
+  b.insert_time = r.number("insert_time").value_or(0.0);
+  r.check(b.insert_time >= 0.0, "insert_time", ">= 0", b.insert_time);
+  b.lattice_transform = r.matrix("lattice_transform", dimension_);
+  if (b.lattice_transform) {
+    const double det = determinant(*b.lattice_transform);
+    r.check(det != 0.0, "lattice_transform", "invertible (non-zero determinant)", det);
+  }
+  b.allow_overlap = r.boolean("allow_overlap").value_or(false);
+}
+
+void DeckReader::readShape(const TableReader& r, ShapeConfig& s) const {
+  s.where = r.where();
+  s.type = r.choice("type", dd::typeNames("body.shape"), std::nullopt);
+  const std::string dims = "; run.dimension is " + std::to_string(dimension_) + ")";
+  if (s.type == "cylinder" && dimension_ != 3)
+    r.fail("type", "shape 'cylinder' is 3D only (use 'sphere' or 'box' in 1D and 2D" + dims);
+  if (s.type == "ring" && dimension_ != 2)
+    r.fail("type", "shape 'ring' is 2D only (use 'sphere' or 'box' in 1D and 3D" + dims);
+  const Names& params = dd::typedKeys("body.shape", s.type);
+  Names keys{"type"};
+  keys.insert(keys.end(), params.begin(), params.end());
+  r.allowOnly(keys, "shape '" + s.type + "' takes: " + dd::joined(params));
+
+  if (s.type == "box") {
+    s.min = point(r, "min");
+    s.max = point(r, "max");
+    for (std::size_t a = 0; a < dimension_; ++a)
+      if (!(s.min[a] < s.max[a]))
+        r.fail("max", r.quoted("max") + " must exceed min on every axis (axis " +
+                          std::to_string(a) + ": min " + dd::formatNumber(s.min[a]) + ", max " +
+                          dd::formatNumber(s.max[a]) + ")");
+  } else if (s.type == "sphere") {
+    s.center = point(r, "center");
+    s.radius = r.required(r.number("radius"), "radius");
+    r.check(s.radius > 0.0, "radius", "> 0", s.radius);
+  } else if (s.type == "cylinder") {
+    s.base = point(r, "base");
+    s.axis = point(r, "axis");
+    if (norm(s.axis) == 0.0) r.fail("axis", r.quoted("axis") + " must not be the zero vector");
+    s.radius = r.required(r.number("radius"), "radius");
+    r.check(s.radius > 0.0, "radius", "> 0", s.radius);
+    s.length = r.required(r.number("length"), "length");
+    r.check(s.length > 0.0, "length", "> 0", s.length);
+  } else { // ring
+    s.center = point(r, "center");
+    s.inner_radius = r.required(r.number("inner_radius"), "inner_radius");
+    r.check(s.inner_radius >= 0.0, "inner_radius", ">= 0", s.inner_radius);
+    s.outer_radius = r.required(r.number("outer_radius"), "outer_radius");
+    r.check(s.inner_radius < s.outer_radius, "inner_radius",
+            "< outer_radius (" + dd::formatNumber(s.outer_radius) + ")", s.inner_radius);
+  }
+}
+
+void DeckReader::readEnergySource(const TableReader& r, EnergySourceConfig& e) const {
+  r.allowOnly(*dd::schemaKeys("energy_source"));
+  e.where = r.where();
+  e.center = point(r, "center");
+  e.radius = r.number("radius").value_or(0.0);
+  r.check(e.radius >= 0.0, "radius", ">= 0", e.radius);
+  e.energy = r.required(r.number("energy"), "energy");
+  r.check(e.energy >= 0.0, "energy", ">= 0", e.energy);
+}
+
+void DeckReader::readBoundary(const TableReader& r, BoundaryConfig& b) const {
+  b.where = r.where();
+  b.type = r.choice("type", dd::typeNames("boundary"), std::nullopt);
+  const Names& params = dd::typedKeys("boundary", b.type);
+  Names keys{"type"};
+  keys.insert(keys.end(), params.begin(), params.end());
+  r.allowOnly(keys, "boundary '" + b.type + "' takes: " + dd::joined(params));
+  if (b.type == "rigid_wall") {
+    b.point = point(r, "point");
+    b.normal = point(r, "normal");
+    const double n = norm(b.normal);
+    if (n == 0.0) r.fail("normal", r.quoted("normal") + " must not be the zero vector");
+    for (double& x : b.normal) x /= n;
+  } else { // periodic
+    const std::int64_t axis = r.required(r.integer("axis"), "axis");
+    r.check(axis >= 0 && axis < static_cast<std::int64_t>(dimension_), "axis",
+            "0 .. " + std::to_string(dimension_ - 1) + " (0 = x; run.dimension is " +
+                std::to_string(dimension_) + ")",
+            static_cast<double>(axis));
+    b.axis = static_cast<int>(axis);
+    b.min = r.required(r.number("min"), "min");
+    b.max = r.required(r.number("max"), "max");
+    r.check(b.min < b.max, "max", "> min (" + dd::formatNumber(b.min) + ")", b.max);
+  }
+}
+
+void DeckReader::readOutput(const TableReader& r, OutputConfig& o) const {
+  r.allowOnly(*dd::schemaKeys("output"));
+  o.where = r.where();
+  o.directory = r.required(r.string("directory"), "directory");
+  if (o.directory.empty()) r.fail("directory", r.quoted("directory") + " must not be empty");
+  o.every = r.number("every").value_or(0.0);
+  r.check(o.every >= 0.0, "every", ">= 0", o.every);
+  o.every_steps = r.integer("every_steps").value_or(0);
+  r.check(o.every_steps >= 0, "every_steps", ">= 0", static_cast<double>(o.every_steps));
+  o.fields = r.strings("fields").value_or(std::vector<std::string>{});
+  o.history_every_steps = r.integer("history_every_steps").value_or(1);
+  r.check(o.history_every_steps >= 1, "history_every_steps", ">= 1",
+          static_cast<double>(o.history_every_steps));
+}
+
+void DeckReader::readCheckpoint(const TableReader& r, CheckpointConfig& c) const {
+  r.allowOnly(*dd::schemaKeys("checkpoint"));
+  c.where = r.where();
+  c.every_steps = r.integer("every_steps").value_or(0);
+  r.check(c.every_steps >= 0, "every_steps", ">= 0", static_cast<double>(c.every_steps));
+  c.every_wall_seconds = r.number("every_wall_seconds").value_or(0.0);
+  r.check(c.every_wall_seconds >= 0.0, "every_wall_seconds", ">= 0", c.every_wall_seconds);
+  if (const auto v = r.integer("keep")) c.keep = toInt(r, "keep", *v, 1);
+}
+
+void DeckReader::readProbe(const TableReader& r, ProbeConfig& p) const {
+  r.allowOnly(*dd::schemaKeys("probe"));
+  p.where = r.where();
+  p.position = point(r, "position");
+  p.track = r.choice("track", {"material", "space"}, p.track);
+  // A probe without fields would record nothing: say so rather than run silently.
+  p.fields = r.required(r.strings("fields"), "fields");
+  if (p.fields.empty()) r.fail("fields", r.quoted("fields") + " must name at least one field");
+}
+
+std::string resolvedText(const toml::table& root, const std::string& path,
+                         const std::vector<std::string>& overrides) {
+  std::ostringstream os;
+  os << "# resolved deck of " << path;
+  if (overrides.empty())
+    os << " (no overrides)";
+  else
+    os << " with overrides:";
+  for (const auto& o : overrides) {
+    std::string flat = o; // keep the comment on one line
+    for (char& c : flat)
+      if (c == '\n' || c == '\r') c = ' ';
+    os << " --set " << flat;
+  }
+  os << "\n" << root << "\n";
+  return os.str();
+}
+
+} // namespace
+
+Deck loadDeck(const std::string& path, const std::vector<std::string>& overrides) {
+  const std::string text = readText(path);
+  toml::table root;
+  try {
+    root = toml::parse(std::string_view(text), std::string_view(path));
+  } catch (const toml::parse_error& e) {
+    const auto& b = e.source().begin;
+    throw DeckError({path, static_cast<int>(b.line), static_cast<int>(b.column)},
+                    std::string(e.description()));
+  }
+  dd::applyOverrides(root, overrides, path);
+
+  Deck deck;
+  deck.path = path;
+  deck.resolved_toml = resolvedText(root, path, overrides);
+  DeckReader(root, path).read(deck);
+  return deck;
+}
+
+} // namespace spall

@@ -1,0 +1,424 @@
+#include "DeckDetail.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+namespace spall::io::deck_detail {
+
+namespace {
+
+struct TypedTable {
+  std::string_view path; // schema path of the table
+  std::vector<std::pair<std::string_view, Names>> types;
+};
+
+const std::vector<TypedTable>& typedTables() {
+  static const std::vector<TypedTable> tables{
+      {"material.eos",
+       {{"ideal_gas", {"gamma"}},
+        {"linear", {"bulk_modulus"}},
+        {"mie_gruneisen", {"c0", "s", "gamma0"}},
+        {"tillotson", {"a", "b", "A", "B", "alpha", "beta", "e0", "e_iv", "e_cv"}}}},
+      {"body.shape",
+       {{"box", {"min", "max"}},
+        {"sphere", {"center", "radius"}},
+        {"cylinder", {"base", "axis", "radius", "length"}},
+        {"ring", {"center", "inner_radius", "outer_radius"}}}},
+      {"boundary", {{"rigid_wall", {"point", "normal"}}, {"periodic", {"axis", "min", "max"}}}},
+  };
+  return tables;
+}
+
+const TypedTable* findTyped(std::string_view path) {
+  for (const auto& t : typedTables())
+    if (t.path == path) return &t;
+  return nullptr;
+}
+
+// "type" followed by every type's keys, once each.
+Names unionKeys(std::string_view path) {
+  Names keys{"type"};
+  for (const auto& [type, params] : findTyped(path)->types)
+    for (auto k : params)
+      if (!contains(keys, k)) keys.push_back(k);
+  return keys;
+}
+
+const std::map<std::string, Names, std::less<>>& schema() {
+  static const std::map<std::string, Names, std::less<>> s{
+      {"",
+       {"run", "solver", "decomposition", "material", "body", "energy_source", "boundary", "output",
+        "checkpoint", "probe"}},
+      {"run", {"title", "dimension", "end_time", "max_steps", "resolution", "seed"}},
+      {"solver",
+       {"method", "kernel", "nodes_per_h", "cfl", "density", "artificial_viscosity", "h_min",
+        "h_max", "h_max_ratio"}},
+      {"solver.artificial_viscosity", {"alpha", "beta", "balsara"}},
+      {"decomposition", {"curve", "partitioner", "rebalance_every"}},
+      {"material", {"name", "density", "eos", "strength"}},
+      {"material.eos", unionKeys("material.eos")},
+      {"material.strength", {"type"}},
+      {"body",
+       {"name", "material", "shape", "spacing", "lattice", "velocity", "initial_density",
+        "initial_specific_energy", "initial_pressure", "jitter", "radial_velocity", "insert_time",
+        "lattice_transform", "allow_overlap"}},
+      {"body.shape", unionKeys("body.shape")},
+      {"body.radial_velocity", {"center", "speed"}},
+      {"energy_source", {"center", "radius", "energy"}},
+      {"boundary", unionKeys("boundary")},
+      {"output", {"directory", "every", "every_steps", "fields", "history_every_steps"}},
+      {"checkpoint", {"every_steps", "every_wall_seconds", "keep"}},
+      {"probe", {"name", "position", "track", "fields"}},
+  };
+  return s;
+}
+
+std::size_t levenshtein(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// Plurals ("bodies", "materials") are a common slip for array-of-tables names.
+std::size_t distance(std::string_view word, std::string_view candidate) {
+  std::size_t d = levenshtein(word, candidate);
+  d = std::min(d, levenshtein(word, std::string(candidate) + "s"));
+  if (!candidate.empty() && candidate.back() == 'y') {
+    std::string plural(candidate.substr(0, candidate.size() - 1));
+    d = std::min(d, levenshtein(word, plural + "ies"));
+  }
+  return d;
+}
+
+// Unknown keys are reported in deck order; values from overrides (line 0) come first.
+bool before(const SourceLocation& a, const SourceLocation& b) {
+  if (a.line != b.line) return a.line < b.line;
+  return a.column < b.column;
+}
+
+} // namespace
+
+SourceLocation locate(const toml::source_region& source, const std::string& deckPath) {
+  if (!source.path) return {deckPath, 0, 0};
+  if (*source.path != deckPath) return {*source.path, 0, 0};
+  return {deckPath, static_cast<int>(source.begin.line), static_cast<int>(source.begin.column)};
+}
+
+std::string typeName(const toml::node& node) {
+  switch (node.type()) {
+  case toml::node_type::table:
+    return "table";
+  case toml::node_type::array:
+    return "array";
+  case toml::node_type::string:
+    return "string";
+  case toml::node_type::integer:
+    return "integer";
+  case toml::node_type::floating_point:
+    return "float";
+  case toml::node_type::boolean:
+    return "boolean";
+  case toml::node_type::date:
+    return "date";
+  case toml::node_type::time:
+    return "time";
+  case toml::node_type::date_time:
+    return "date-time";
+  case toml::node_type::none:
+    break;
+  }
+  return "nothing";
+}
+
+std::string formatNumber(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+std::string joined(const Names& names) {
+  std::string s;
+  for (auto n : names) {
+    if (!s.empty()) s += ", ";
+    s += n;
+  }
+  return s;
+}
+
+bool contains(const Names& names, std::string_view name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+std::string didYouMean(std::string_view word, const Names& candidates) {
+  std::string_view best;
+  std::size_t bestDistance = std::string_view::npos;
+  for (auto c : candidates) {
+    const std::size_t d = distance(word, c);
+    const std::size_t limit = std::max<std::size_t>(2, c.size() / 3);
+    // A suggestion that shares no letter with the word is no suggestion ("x" -> "s").
+    if (d <= limit && d < std::max(word.size(), c.size()) && d < bestDistance) {
+      best = c;
+      bestDistance = d;
+    }
+  }
+  return best.empty() ? std::string() : " (did you mean '" + std::string(best) + "'?)";
+}
+
+const Names* schemaKeys(std::string_view schemaPath) {
+  const auto& s = schema();
+  const auto it = s.find(schemaPath);
+  return it == s.end() ? nullptr : &it->second;
+}
+
+bool isArrayOfTables(std::string_view schemaPath) {
+  return contains({"material", "body", "energy_source", "boundary", "probe"}, schemaPath);
+}
+
+bool isNamedArray(std::string_view schemaPath) {
+  return contains({"material", "body", "probe"}, schemaPath);
+}
+
+const Names& typeNames(std::string_view schemaPath) {
+  static const std::map<std::string, Names, std::less<>> names = [] {
+    std::map<std::string, Names, std::less<>> m;
+    for (const auto& t : typedTables())
+      for (const auto& [type, params] : t.types) m[std::string(t.path)].push_back(type);
+    return m;
+  }();
+  return names.find(schemaPath)->second;
+}
+
+const Names& typedKeys(std::string_view schemaPath, std::string_view type) {
+  for (const auto& [name, params] : findTyped(schemaPath)->types)
+    if (name == type) return params;
+  static const Names none;
+  return none;
+}
+
+Context Context::child(std::string_view key) const {
+  if (dotted.empty()) return {"[" + std::string(key) + "]", std::string(key)};
+  return {"the " + std::string(key) + " of " + human, dotted + "." + std::string(key)};
+}
+
+Context Context::entry(std::string_view kind, const toml::table& table, std::size_t index) {
+  const std::string k(kind);
+  if (isNamedArray(kind)) {
+    if (const auto* name = table.get_as<std::string>("name")) {
+      const std::string& n = name->get();
+      if (!n.empty() && n.find('.') == std::string::npos) return {k + " '" + n + "'", k + "." + n};
+    }
+  }
+  const std::string i = std::to_string(index + 1);
+  return {k + " " + i, k + "." + i};
+}
+
+std::string unknownKeyMessage(std::string_view key, const Context& context, const Names& known,
+                              const std::string& hint) {
+  std::string m = context.human.empty()
+                      ? "unknown top-level key '" + std::string(key) + "'"
+                      : "unknown key '" + std::string(key) + "' in " + context.human;
+  const std::string suggestion = didYouMean(key, known);
+  if (!suggestion.empty()) return m + suggestion;
+  return hint.empty() ? m : m + " (" + hint + ")";
+}
+
+// ---- TableReader ----
+
+SourceLocation TableReader::where() const {
+  return locate(table_.source(), deckPath_);
+}
+
+SourceLocation TableReader::whereValue(std::string_view key) const {
+  const toml::node* n = table_.get(key);
+  return n ? whereNode(*n) : where();
+}
+
+SourceLocation TableReader::whereNode(const toml::node& node) const {
+  return locate(node.source(), deckPath_);
+}
+
+std::string TableReader::quoted(std::string_view key) const {
+  return "'" + (context_.dotted.empty() ? std::string() : context_.dotted + ".") +
+         std::string(key) + "'";
+}
+
+void TableReader::allowOnly(const Names& known, const std::string& hint) const {
+  std::optional<std::string> first;
+  SourceLocation firstAt;
+  for (auto&& [k, v] : table_) {
+    if (contains(known, k.str())) continue;
+    // Keys inserted by an override carry no position of their own; their values do.
+    const SourceLocation at = k.source().path ? locate(k.source(), deckPath_) : whereNode(v);
+    if (!first || before(at, firstAt)) {
+      first = std::string(k.str());
+      firstAt = at;
+    }
+  }
+  if (first) throw DeckError(firstAt, unknownKeyMessage(*first, context_, known, hint));
+}
+
+void TableReader::fail(std::string_view key, const std::string& message) const {
+  throw DeckError(whereValue(key), message);
+}
+
+void TableReader::missing(std::string_view key) const {
+  std::string m = "missing required key '" + std::string(key) + "'";
+  if (!context_.human.empty()) m += " in " + context_.human;
+  throw DeckError(where(), m);
+}
+
+void TableReader::check(bool ok, std::string_view key, std::string_view what, double got) const {
+  if (!ok) fail(key, quoted(key) + " must be " + std::string(what) + ", got " + formatNumber(got));
+}
+
+double TableReader::numberFrom(const toml::node& node, std::string_view key,
+                               bool allowInfinite) const {
+  double v = 0.0;
+  if (const auto* i = node.as_integer())
+    v = static_cast<double>(i->get());
+  else if (const auto* f = node.as_floating_point())
+    v = f->get();
+  else
+    throw DeckError(whereNode(node), quoted(key) + " must be a number, got " + typeName(node));
+  if (std::isnan(v) || (!allowInfinite && std::isinf(v)))
+    throw DeckError(whereNode(node),
+                    quoted(key) + " must be a finite number, got " + formatNumber(v));
+  return v;
+}
+
+std::optional<double> TableReader::number(std::string_view key, bool allowInfinite) const {
+  const toml::node* n = table_.get(key);
+  if (!n) return std::nullopt;
+  return numberFrom(*n, key, allowInfinite);
+}
+
+std::optional<std::int64_t> TableReader::integer(std::string_view key) const {
+  const toml::node* n = table_.get(key);
+  if (!n) return std::nullopt;
+  if (const auto* i = n->as_integer()) return i->get();
+  // 1e6 is a natural way to write a step count; accept floats that are whole numbers.
+  if (const auto* f = n->as_floating_point()) {
+    const double v = f->get();
+    if (std::isfinite(v) && v == std::floor(v) && std::abs(v) < 9.0e18)
+      return static_cast<std::int64_t>(v);
+    fail(key, quoted(key) + " must be an integer, got " + formatNumber(v));
+  }
+  fail(key, quoted(key) + " must be an integer, got " + typeName(*n));
+}
+
+std::optional<std::string> TableReader::string(std::string_view key) const {
+  const toml::node* n = table_.get(key);
+  if (!n) return std::nullopt;
+  if (const auto* s = n->as_string()) return s->get();
+  fail(key, quoted(key) + " must be a string, got " + typeName(*n));
+}
+
+std::optional<bool> TableReader::boolean(std::string_view key) const {
+  const toml::node* n = table_.get(key);
+  if (!n) return std::nullopt;
+  if (const auto* b = n->as_boolean()) return b->get();
+  fail(key, quoted(key) + " must be a boolean (true or false), got " + typeName(*n));
+}
+
+std::optional<std::vector<double>> TableReader::vector(std::string_view key, std::size_t n) const {
+  const toml::node* node = table_.get(key);
+  if (!node) return std::nullopt;
+  const toml::array* a = node->as_array();
+  if (!a)
+    fail(key, quoted(key) + " must be an array of " + std::to_string(n) + " numbers, got " +
+                  typeName(*node));
+  if (a->size() != n)
+    fail(key, quoted(key) + " must have " + std::to_string(n) + (n == 1 ? " entry" : " entries") +
+                  " (one per dimension; run.dimension is " + std::to_string(n) + "), got " +
+                  std::to_string(a->size()));
+  std::vector<double> v;
+  for (const toml::node& e : *a) v.push_back(numberFrom(e, key, false));
+  return v;
+}
+
+std::optional<std::vector<std::vector<double>>> TableReader::matrix(std::string_view key,
+                                                                    std::size_t n) const {
+  const toml::node* node = table_.get(key);
+  if (!node) return std::nullopt;
+  const std::string shape = std::to_string(n) + " x " + std::to_string(n);
+  const toml::array* rows = node->as_array();
+  if (!rows || rows->size() != n)
+    fail(key, quoted(key) + " must be a " + shape + " array of arrays (run.dimension is " +
+                  std::to_string(n) + ")");
+  std::vector<std::vector<double>> m;
+  for (const toml::node& row : *rows) {
+    const toml::array* r = row.as_array();
+    if (!r || r->size() != n)
+      throw DeckError(whereNode(row), quoted(key) + " must be a " + shape +
+                                          " array of arrays: each row needs " + std::to_string(n) +
+                                          " numbers");
+    std::vector<double> values;
+    for (const toml::node& e : *r) values.push_back(numberFrom(e, key, false));
+    m.push_back(std::move(values));
+  }
+  return m;
+}
+
+std::optional<std::vector<std::string>> TableReader::strings(std::string_view key) const {
+  const toml::node* node = table_.get(key);
+  if (!node) return std::nullopt;
+  const toml::array* a = node->as_array();
+  if (!a) fail(key, quoted(key) + " must be an array of strings, got " + typeName(*node));
+  std::vector<std::string> v;
+  for (const toml::node& e : *a) {
+    const auto* s = e.as_string();
+    if (!s)
+      throw DeckError(whereNode(e), quoted(key) + " entries must be strings, got " + typeName(e));
+    v.push_back(s->get());
+  }
+  return v;
+}
+
+const toml::table* TableReader::subtable(std::string_view key) const {
+  const toml::node* n = table_.get(key);
+  if (!n) return nullptr;
+  if (const auto* t = n->as_table()) return t;
+  fail(key, quoted(key) + " must be a table, got " + typeName(*n));
+}
+
+std::vector<const toml::table*> TableReader::tables(std::string_view key) const {
+  const toml::node* n = table_.get(key);
+  if (!n) return {};
+  const std::string expected =
+      quoted(key) + " must be an array of tables ([[" + std::string(key) + "]]), got ";
+  const toml::array* a = n->as_array();
+  if (!a) fail(key, expected + typeName(*n));
+  std::vector<const toml::table*> out;
+  for (const toml::node& e : *a) {
+    const auto* t = e.as_table();
+    if (!t) throw DeckError(whereNode(e), expected + "an array holding a " + typeName(e));
+    out.push_back(t);
+  }
+  return out;
+}
+
+std::string TableReader::choice(std::string_view key, const Names& allowed,
+                                std::optional<std::string_view> fallback) const {
+  const auto s = string(key);
+  if (!s) {
+    if (!fallback) missing(key);
+    return std::string(*fallback);
+  }
+  if (!contains(allowed, *s))
+    fail(key, quoted(key) + " must be one of " + joined(allowed) + ", got '" + *s + "'" +
+                  didYouMean(*s, allowed));
+  return *s;
+}
+
+} // namespace spall::io::deck_detail

@@ -1,0 +1,113 @@
+#pragma once
+// Private to the deck reader (Deck.cpp, DeckOverrides.cpp, DeckDetail.cpp): positions of nodes,
+// typed access that reports FILE:LINE:COLUMN, the schema of known keys, did-you-mean suggestions.
+#include "spall/core/Error.hpp"
+
+#include <toml++/toml.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace spall::io::deck_detail {
+
+using Names = std::vector<std::string_view>;
+
+// The node's position in the deck. Overrides are parsed with "--set KEY=VALUE" as their source
+// path, so a value that came from one reports that string, with line 0.
+SourceLocation locate(const toml::source_region& source, const std::string& deckPath);
+
+std::string typeName(const toml::node& node); // "string", "float", "table", ...
+std::string formatNumber(double v);
+std::string joined(const Names& names); // "a, b, c"
+bool contains(const Names& names, std::string_view name);
+
+// " (did you mean 'x'?)" for the closest candidate within about a third of its length, else "".
+std::string didYouMean(std::string_view word, const Names& candidates);
+
+// Keys of each schema table, by schema path: "" (top level), "run", "solver.artificial_viscosity",
+// "body", "body.shape", ... Sub-tables appear as keys of their parent and have their own entry;
+// nullptr for a path that is not a table. Typed tables (eos, shape, boundary) hold the union over
+// their types; typedKeys() narrows that to one type.
+const Names* schemaKeys(std::string_view schemaPath);
+bool isArrayOfTables(std::string_view schemaPath); // material, body, energy_source, boundary, probe
+bool isNamedArray(
+    std::string_view schemaPath); // entries addressed by `name`: material, body, probe
+// The type names of a typed table ("material.eos", "body.shape", "boundary") and the parameter
+// keys of one of its types (without "type").
+const Names& typeNames(std::string_view schemaPath);
+const Names& typedKeys(std::string_view schemaPath, std::string_view type);
+
+// How a table is named in messages: for people, and as the dotted path `--set` addresses it by.
+struct Context {
+  std::string human;  // "[run]", "body 'striker'", "the shape of body 'striker'"; "" at top level
+  std::string dotted; // "run", "body.striker", "body.striker.shape"; "" at top level
+  Context child(std::string_view key) const;
+  // One [[kind]] entry: by its name where the kind has names (and this one a usable name), else
+  // by its 1-based index ("boundary 2", "boundary.2").
+  static Context entry(std::string_view kind, const toml::table& table, std::size_t index);
+};
+
+std::string unknownKeyMessage(std::string_view key, const Context& context, const Names& known,
+                              const std::string& hint = {});
+
+// Applies `--set KEY=VALUE` overrides in order (see Deck.hpp); throws DeckError.
+void applyOverrides(toml::table& root, const std::vector<std::string>& overrides,
+                    const std::string& deckPath);
+
+// Typed, checked reads from one table. Every failure is a DeckError at the offending value, or at
+// the table itself for a missing key.
+class TableReader {
+public:
+  TableReader(const toml::table& table, Context context, const std::string& deckPath)
+      : table_(table), context_(std::move(context)), deckPath_(deckPath) {}
+
+  const toml::table& table() const { return table_; }
+  const Context& context() const { return context_; }
+  const std::string& deckPath() const { return deckPath_; }
+  SourceLocation where() const;                          // the table's own position
+  SourceLocation whereValue(std::string_view key) const; // the value's, or the table's if absent
+  SourceLocation whereNode(const toml::node& node) const;
+  bool has(std::string_view key) const { return table_.contains(key); }
+  std::string quoted(std::string_view key) const; // "'body.striker.spacing'"
+
+  // Throws at the first key (in deck order) that `known` does not hold.
+  void allowOnly(const Names& known, const std::string& hint = {}) const;
+
+  [[noreturn]] void fail(std::string_view key, const std::string& message) const;
+  [[noreturn]] void missing(std::string_view key) const;
+  // `what` completes "'KEY' must be ...", e.g. "> 0".
+  void check(bool ok, std::string_view key, std::string_view what, double got) const;
+
+  // Absent keys give nullopt (or nullptr / empty); present ones must have the right type.
+  std::optional<double> number(std::string_view key, bool allowInfinite = false) const;
+  std::optional<std::int64_t> integer(std::string_view key) const;
+  std::optional<std::string> string(std::string_view key) const;
+  std::optional<bool> boolean(std::string_view key) const;
+  std::optional<std::vector<double>> vector(std::string_view key, std::size_t n) const;
+  std::optional<std::vector<std::vector<double>>> matrix(std::string_view key,
+                                                         std::size_t n) const; // n x n
+  std::optional<std::vector<std::string>> strings(std::string_view key) const;
+  const toml::table* subtable(std::string_view key) const;
+  std::vector<const toml::table*> tables(std::string_view key) const; // [[key]]
+  // A string from `allowed`; `fallback` when absent (or a missing-key error without one).
+  std::string choice(std::string_view key, const Names& allowed,
+                     std::optional<std::string_view> fallback) const;
+
+  template <class T> T required(std::optional<T> value, std::string_view key) const {
+    if (!value) missing(key);
+    return *value;
+  }
+
+private:
+  double numberFrom(const toml::node& node, std::string_view key, bool allowInfinite) const;
+
+  const toml::table& table_;
+  Context context_;
+  const std::string& deckPath_;
+};
+
+} // namespace spall::io::deck_detail

@@ -1,0 +1,52 @@
+#include "spall/parallel/Mpi.hpp"
+
+namespace spall::parallel {
+
+MpiContext::MpiContext(MPI_Comm comm) : comm_(comm) {
+  MPI_Comm_rank(comm_, &rank_);
+  MPI_Comm_size(comm_, &size_);
+}
+
+double MpiContext::min(double v) const {
+  double r;
+  MPI_Allreduce(&v, &r, 1, MPI_DOUBLE, MPI_MIN, comm_);
+  return r;
+}
+double MpiContext::max(double v) const {
+  double r;
+  MPI_Allreduce(&v, &r, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  return r;
+}
+double MpiContext::sum(double v) const {
+  sumInRankOrder({&v, 1});
+  return v;
+}
+std::uint64_t MpiContext::sum(std::uint64_t v) const {
+  std::uint64_t r;
+  MPI_Allreduce(&v, &r, 1, MPI_UINT64_T, MPI_SUM, comm_);
+  return r;
+}
+
+void MpiContext::sumInRankOrder(std::span<double> values) const {
+  if (size_ == 1) return;
+  const int n = static_cast<int>(values.size());
+  std::vector<double> all(static_cast<std::size_t>(n) * static_cast<std::size_t>(size_));
+  MPI_Allgather(values.data(), n, MPI_DOUBLE, all.data(), n, MPI_DOUBLE, comm_);
+  for (int k = 0; k < n; ++k) {
+    double s = 0.0;
+    for (int r = 0; r < size_; ++r) s += all[static_cast<std::size_t>(r * n + k)];
+    values[static_cast<std::size_t>(k)] = s;
+  }
+}
+
+MpiSession::MpiSession(int& argc, char**& argv) {
+  int provided = 0;
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+}
+MpiSession::~MpiSession() {
+  int finalized = 0;
+  MPI_Finalized(&finalized);
+  if (!finalized) MPI_Finalize();
+}
+
+} // namespace spall::parallel

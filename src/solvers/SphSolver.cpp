@@ -1,0 +1,248 @@
+#include "spall/solvers/SphSolver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace spall::solvers {
+
+namespace {
+
+template <int Dim> double ipow(double x) {
+  if constexpr (Dim == 1) return x;
+  else if constexpr (Dim == 2) return x * x;
+  else return x * x * x;
+}
+
+template <int Dim, class K> class Sph final : public Solver<Dim> {
+  using KW = kernels::Kernel<K, Dim>;
+
+public:
+  Sph(const SolverSetup& setup, ParticleStore& store, const SphFields<Dim>& f)
+      : cfg_(setup.config), eos_(setup.eos), s_(store), f_(f),
+        psi_(kernels::PsiTable::build<KW, Dim>()) {}
+
+  double support() const override { return K::support; }
+  bool usesSummationDensity() const override { return cfg_.density != DensityMethod::Continuity; }
+
+  void computeDensity(const neighbors::NeighborList& nl) override {
+    const auto x = s_[f_.x];
+    const auto h = s_[f_.h];
+    const auto m = s_[f_.m];
+    const auto rho = s_[f_.rho];
+    const std::size_t n = s_.localCount();
+    const bool normalise = cfg_.density == DensityMethod::NormalizedSummation;
+    // Lam et al. (2001) Eq. 25 divides by the kernel sum of volumes m_j/rho_j, which needs the
+    // previous densities of all particles (ghosts included): keep them while rho is overwritten.
+    if (normalise) rhoPrev_.assign(rho.begin(), rho.end());
+    const double W0 = K::sigma() * K::f(0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double hinv = 1.0 / h[i];
+      const double norm = ipow<Dim>(hinv);
+      double sum = m[i] * W0;
+      double vol = normalise ? m[i] / rhoPrev_[i] * W0 : 0.0;
+      for (std::uint32_t j : nl.of(i)) {
+        const double q = (x[i] - x[j]).norm() * hinv;
+        if (q >= K::support) continue;
+        const double w = K::sigma() * K::f(q);
+        sum += m[j] * w;
+        if (normalise) vol += m[j] / rhoPrev_[j] * w;
+      }
+      rho[i] = normalise ? sum / vol : sum * norm;
+    }
+  }
+
+  void equationOfState() override {
+    const auto rho = s_[f_.rho];
+    const auto e = s_[f_.e];
+    const auto p = s_[f_.p];
+    const auto cs = s_[f_.cs];
+    const auto mat = s_[f_.material];
+    const std::size_t n = s_.localCount();
+    // One visit per material, then a plain loop: no dispatch per particle.
+    for (std::size_t k = 0; k < eos_.size(); ++k) {
+      std::visit(
+          [&](const auto& model) {
+            for (std::size_t i = 0; i < n; ++i) {
+              if (mat[i] != static_cast<std::int32_t>(k)) continue;
+              const auto st = model.evaluate(rho[i], e[i]);
+              p[i] = st.p;
+              cs[i] = st.cs;
+            }
+          },
+          eos_[k]);
+    }
+  }
+
+  void computeRates(const neighbors::NeighborList& nl) override {
+    if (cfg_.artificial_viscosity.balsara) ratesLoop<true>(nl);
+    else ratesLoop<false>(nl);
+  }
+
+  void updateSmoothing() override {
+    const auto h = s_[f_.h];
+    const auto m = s_[f_.m];
+    const auto rho = s_[f_.rho];
+    const auto psi = s_[f_.psi0];
+    const double target = cfg_.nodes_per_h;
+    for (std::size_t i = 0; i < s_.localCount(); ++i) {
+      // Owen (2010) Eq. 2-3: s = n_h^target / n_h, a = 0.4 (1 + s^2) for s < 1 and
+      // 0.4 (1 + s^-3) otherwise, h_new = (1 - a + a s) h.
+      const double nh = psi_.nodesPerH(std::pow(psi[i], 1.0 / Dim));
+      const double sRatio = nh > 0.0 ? target / nh : 4.0;
+      const double sClamped = std::min(sRatio, 4.0);
+      const double a = sClamped < 1.0 ? 0.4 * (1.0 + sClamped * sClamped)
+                                      : 0.4 * (1.0 + 1.0 / (sClamped * sClamped * sClamped));
+      double hNew = (1.0 - a + a * sClamped) * h[i];
+      const double hVolume = target * std::pow(m[i] / rho[i], 1.0 / Dim);
+      hNew = std::min(hNew, cfg_.h_max_ratio * hVolume);
+      h[i] = std::clamp(hNew, cfg_.h_min, cfg_.h_max);
+    }
+  }
+
+  std::pair<double, std::size_t> stableTimeStep() const override {
+    const auto h = s_[f_.h];
+    const auto cs = s_[f_.cs];
+    const auto a = s_[f_.a];
+    const auto mu = s_[f_.muMax];
+    const double alpha = cfg_.artificial_viscosity.alpha, beta = cfg_.artificial_viscosity.beta;
+    double dt = std::numeric_limits<double>::infinity();
+    std::size_t which = 0;
+    for (std::size_t i = 0; i < s_.localCount(); ++i) {
+      // Monaghan (1992): signal speed c + 1.2 (alpha c + beta max mu_ij); plus the force limit.
+      const double signal = cs[i] + 1.2 * (alpha * cs[i] + beta * mu[i]);
+      double dti = signal > 0.0 ? h[i] / signal : std::numeric_limits<double>::infinity();
+      const double an = a[i].norm();
+      if (an > 0.0) dti = std::min(dti, std::sqrt(h[i] / an));
+      if (dti < dt) dt = dti, which = i;
+    }
+    return {cfg_.cfl * dt, which};
+  }
+
+  double nodesPerH(std::size_t i) const override {
+    return psi_.nodesPerH(std::pow(s_[f_.psi0][i], 1.0 / Dim));
+  }
+
+private:
+  // Lam et al. (2001) Eqs. 20-21 in tensor form, dv_i/dt = sum_j m_j (sigma_i/rho_i^2 +
+  // sigma_j/rho_j^2 - Pi_ij I) . grad_i W_ij, with sigma = -p I + S. Hydro decks have S = 0, so
+  // the contraction is the scalar pressure term below (strength adds S in its own instantiation).
+  // grad_i W_ij is the average of both supports' gradients, which keeps the pair force
+  // antisymmetric (momentum conserved to round-off) for unequal h.
+  template <bool Balsara> void ratesLoop(const neighbors::NeighborList& nl) {
+    const auto x = s_[f_.x];
+    const auto v = s_[f_.v];
+    const auto h = s_[f_.h];
+    const auto m = s_[f_.m];
+    const auto rho = s_[f_.rho];
+    const auto p = s_[f_.p];
+    const auto cs = s_[f_.cs];
+    const auto acc = s_[f_.a];
+    const auto dedt = s_[f_.dedt];
+    const auto drhodt = s_[f_.drhodt];
+    const auto psi = s_[f_.psi0];
+    const auto muMax = s_[f_.muMax];
+    const auto divv = s_[f_.divv];
+    const auto curlv = s_[f_.curlv];
+    const double alpha = cfg_.artificial_viscosity.alpha, beta = cfg_.artificial_viscosity.beta;
+    const double sigma = K::sigma();
+    const std::size_t n = s_.localCount();
+
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec<Dim> xi = x[i], vi = v[i];
+      const double hi = h[i], hiInv = 1.0 / hi;
+      const double gradNormI = sigma * ipow<Dim>(hiInv) * hiInv;
+      const double rhoi = rho[i], Pi = p[i] / (rhoi * rhoi), ci = cs[i];
+      const double fi = Balsara ? balsaraFactor(divv[i], curlv[i], ci, hi) : 1.0;
+      Vec<Dim> ai = Vec<Dim>::Zero();
+      double dei = 0.0, drhoi = 0.0, psii = 0.0, mui = 0.0, divi = 0.0;
+      [[maybe_unused]] Eigen::Matrix<double, Dim == 3 ? 3 : 1, 1> curli;
+      if constexpr (Balsara) curli.setZero();
+
+      for (std::uint32_t j : nl.of(i)) {
+        const Vec<Dim> xij = xi - x[j];
+        const double r2 = xij.squaredNorm();
+        if (r2 == 0.0) continue; // coincident particles exert no force on each other
+        const double r = std::sqrt(r2);
+        const double hj = h[j], hjInv = 1.0 / hj;
+        const double qi = r * hiInv, qj = r * hjInv;
+        const double dWi = qi < K::support ? gradNormI * K::df(qi) : 0.0;
+        const double dWj = qj < K::support ? sigma * ipow<Dim>(hjInv) * hjInv * K::df(qj) : 0.0;
+        const Vec<Dim> gradW = (0.5 * (dWi + dWj) / r) * xij;
+        if (qi < K::support) psii += KW::WH(qi);
+
+        const Vec<Dim> vij = vi - v[j];
+        const double vr = vij.dot(xij);
+        double Pij = 0.0;
+        if (vr < 0.0) {
+          // Monaghan & Gingold (1983) viscosity (Lam et al. 2001, Eqs. 22-24).
+          const double hbar = 0.5 * (hi + hj);
+          const double mu = hbar * vr / (r2 + 0.01 * hbar * hbar);
+          const double cbar = 0.5 * (ci + cs[j]), rhobar = 0.5 * (rhoi + rho[j]);
+          Pij = (-alpha * cbar * mu + beta * mu * mu) / rhobar;
+          if constexpr (Balsara) Pij *= 0.5 * (fi + balsaraFactor(divv[j], curlv[j], cs[j], hj));
+          mui = std::max(mui, -mu);
+        }
+        const double rhoj = rho[j];
+        const double term = Pi + p[j] / (rhoj * rhoj) + Pij;
+        const double mj = m[j];
+        ai.noalias() -= (mj * term) * gradW;
+        const double vgrad = vij.dot(gradW);
+        dei += 0.5 * mj * term * vgrad;
+        const double volj = mj / rhoj;
+        drhoi += volj * vgrad;
+        if constexpr (Balsara) {
+          divi -= volj * vgrad;
+          if constexpr (Dim == 2) curli[0] += volj * (vij[0] * gradW[1] - vij[1] * gradW[0]);
+          if constexpr (Dim == 3) curli += volj * vij.cross(gradW);
+        }
+      }
+      acc[i] = ai;
+      dedt[i] = dei;
+      // Continuity in the volume-weighted form rho_i sum_j (m_j/rho_j) v_ij . grad W_ij, which
+      // stays accurate across material interfaces with a large density jump.
+      drhodt[i] = rhoi * drhoi;
+      psi[i] = psii;
+      muMax[i] = mui;
+      if constexpr (Balsara) {
+        divv[i] = divi;
+        curlv[i] = curli.norm();
+      }
+    }
+  }
+
+  // Balsara (1995) switch, from the previous step's div v and |curl v|.
+  static double balsaraFactor(double div, double curl, double c, double h) {
+    const double ad = std::abs(div);
+    return ad / (ad + curl + 1.0e-4 * c / h + 1e-300);
+  }
+
+  SolverConfig cfg_;
+  std::vector<materials::Eos> eos_;
+  ParticleStore& s_;
+  SphFields<Dim> f_;
+  kernels::PsiTable psi_;
+  std::vector<double> rhoPrev_;
+};
+
+} // namespace
+
+template <int Dim>
+std::unique_ptr<Solver<Dim>> makeSolver(const SolverSetup& setup, ParticleStore& store,
+                                        const SphFields<Dim>& f) {
+  switch (setup.config.kernel) {
+  case KernelType::CubicSpline:
+    return std::make_unique<Sph<Dim, kernels::CubicSpline<Dim>>>(setup, store, f);
+  case KernelType::WendlandC2:
+    return std::make_unique<Sph<Dim, kernels::WendlandC2<Dim>>>(setup, store, f);
+  case KernelType::WendlandC4:
+    return std::make_unique<Sph<Dim, kernels::WendlandC4<Dim>>>(setup, store, f);
+  }
+  return nullptr;
+}
+
+template std::unique_ptr<Solver<1>> makeSolver<1>(const SolverSetup&, ParticleStore&, const SphFields<1>&);
+template std::unique_ptr<Solver<2>> makeSolver<2>(const SolverSetup&, ParticleStore&, const SphFields<2>&);
+template std::unique_ptr<Solver<3>> makeSolver<3>(const SolverSetup&, ParticleStore&, const SphFields<3>&);
+
+} // namespace spall::solvers

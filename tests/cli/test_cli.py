@@ -1,0 +1,186 @@
+#!/usr/bin/python3
+"""Command-line contract (INTERFACE.md): every class of deck error exits 2 with
+FILE:LINE:COLUMN of the offending value and writes nothing; results are never overwritten
+silently; the shipped decks all pass `spall check`.
+
+usage: test_cli.py SPALL_BINARY SOURCE_DIR
+"""
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+
+SPALL, SRC = sys.argv[1], sys.argv[2]
+failures = []
+passed = 0
+
+BASE = """[run]
+dimension = 1
+end_time = 1.0e-6
+
+[[material]]
+name = "copper"
+density = 8930.0
+eos = {{ type = "mie_gruneisen", c0 = 3940.0, s = 1.49, gamma0 = 2.02 }}
+
+[[body]]
+name = "striker"
+material = "copper"
+shape = {{ type = "box", min = [-0.001], max = [0.0] }}
+spacing = 1.0e-4
+velocity = [20.0]
+{extra_body}
+[output]
+directory = "{out}"
+"""
+
+
+def run(*args, cwd=None):
+    return subprocess.run([SPALL, *args], capture_output=True, text=True, cwd=cwd, timeout=120)
+
+
+def check(name, cond, detail=""):
+    global passed
+    if cond:
+        passed += 1
+    else:
+        failures.append(f"{name}: {detail}")
+
+
+def deck_error(name, text, line, column, words, tmp, extra_args=()):
+    """The deck `text` must fail `check` and `run` with exit 2 at line:column, naming `words`."""
+    path = os.path.join(tmp, name + ".toml")
+    out = os.path.join(tmp, "out_" + name)
+    with open(path, "w") as f:
+        f.write(text.replace("@OUT@", out))
+    for cmd in (["check", path], ["run", path]):
+        r = run(*cmd, *extra_args)
+        where = f"{path}:{line}:{column}: error:"
+        check(f"{name} [{cmd[0]}] exit code", r.returncode == 2, f"got {r.returncode}; stderr: {r.stderr.strip()}")
+        check(f"{name} [{cmd[0]}] position", where in r.stderr, f"expected '{where}' in: {r.stderr.strip()}")
+        for w in words:
+            check(f"{name} [{cmd[0]}] message", w in r.stderr, f"expected '{w}' in: {r.stderr.strip()}")
+        check(f"{name} [{cmd[0]}] nothing written", not os.path.exists(out), f"{out} was created")
+
+
+def base(out="@OUT@", extra_body=""):
+    return BASE.format(out=out, extra_body=extra_body)
+
+
+def replace_line(text, old, new):
+    assert old in text, old
+    return text.replace(old, new, 1)
+
+
+def line_of(text, needle):
+    for k, line in enumerate(text.splitlines(), 1):
+        if needle in line:
+            return k, line.index(needle.split("=")[0].strip()) + 1 if "=" in needle else line.index(needle) + 1
+    raise AssertionError(needle)
+
+
+def main():
+    tmp = tempfile.mkdtemp(prefix="spall_cli_")
+    try:
+        ok = base()
+        # Unknown key, with a suggestion. The position is that of the key.
+        t = replace_line(ok, "velocity = [20.0]", "velocty = [20.0]")
+        ln = t.splitlines().index("velocty = [20.0]") + 1
+        deck_error("unknown_key", t, ln, 1, ["velocty", "did you mean 'velocity'"], tmp)
+        # Wrong type: a string where a number belongs; the position is the value's.
+        t = replace_line(ok, "end_time = 1.0e-6", 'end_time = "soon"')
+        ln = t.splitlines().index('end_time = "soon"') + 1
+        deck_error("wrong_type", t, ln, 12, ["end_time"], tmp)
+        # Missing required key: the body has no spacing (reported at the body's table).
+        t = replace_line(ok, "spacing = 1.0e-4\n", "")
+        ln = t.splitlines().index("[[body]]") + 1
+        deck_error("missing_key", t, ln, 1, ["spacing"], tmp)
+        # Impossible values.
+        t = replace_line(ok, "density = 8930.0", "density = -8930.0")
+        ln = t.splitlines().index("density = -8930.0") + 1
+        deck_error("negative_density", t, ln, 11, ["density"], tmp)
+        t = replace_line(ok, "spacing = 1.0e-4", "spacing = -1.0e-4")
+        ln = t.splitlines().index("spacing = -1.0e-4") + 1
+        deck_error("negative_spacing", t, ln, 11, ["spacing"], tmp)
+        t = replace_line(ok, "end_time = 1.0e-6", "end_time = 1.0e-6\n[solver]\ncfl = 1.5")
+        ln = t.splitlines().index("cfl = 1.5") + 1
+        deck_error("cfl_range", t, ln, 7, ["cfl"], tmp)
+        t = replace_line(ok, "dimension = 1", "dimension = 4")
+        ln = t.splitlines().index("dimension = 4") + 1
+        deck_error("dimension", t, ln, 13, ["dimension"], tmp)
+        t = replace_line(ok, 'material = "copper"', 'material = "coper"')
+        ln = t.splitlines().index('material = "coper"') + 1
+        deck_error("unknown_material", t, ln, 12, ["coper"], tmp)
+        # A body smaller than its spacing has no particles: reported at the body.
+        t = replace_line(ok, "max = [0.0] }", "max = [-0.00099] }")
+        t = replace_line(t, "spacing = 1.0e-4", "spacing = 1.0e-2")
+        ln = t.splitlines().index("[[body]]") + 1
+        deck_error("empty_body", t.replace("shape = { type = \"box\", min = [-0.001], max = [-0.00099] }",
+                                           "shape = { type = \"sphere\", center = [0.0], radius = 1.0e-5 }"),
+                   ln, 1, ["no particles"], tmp)
+        # Overlapping bodies.
+        extra = ('\n[[body]]\nname = "target"\nmaterial = "copper"\n'
+                 'shape = { type = "box", min = [-0.0005], max = [0.002] }\nspacing = 1.0e-4\n')
+        t = base(extra_body=extra)
+        ln = t.splitlines().index("[[body]]", t.splitlines().index("[[body]]") + 1) + 1
+        deck_error("overlap", t, ln, 1, ["overlaps", "striker"], tmp)
+        # A TOML syntax error is reported where the parser stopped.
+        t = replace_line(ok, "end_time = 1.0e-6", "end_time = 1.0e-6 x")
+        ln = t.splitlines().index("end_time = 1.0e-6 x") + 1
+        path = os.path.join(tmp, "syntax.toml")
+        with open(path, "w") as f:
+            f.write(t.replace("@OUT@", os.path.join(tmp, "out_syntax")))
+        r = run("check", path)
+        check("syntax exit", r.returncode == 2, r.stderr)
+        check("syntax position", re.search(re.escape(path) + rf":{ln}:\d+: error:", r.stderr) is not None, r.stderr)
+        # An override naming no key is a deck error too.
+        good = os.path.join(tmp, "good.toml")
+        out = os.path.join(tmp, "out_good")
+        with open(good, "w") as f:
+            f.write(base(out=out))
+        r = run("run", good, "--set", "run.end_tme=2e-6")
+        check("bad override exit", r.returncode == 2, r.stderr)
+        check("bad override message", "end_tme" in r.stderr and "did you mean 'end_time'" in r.stderr, r.stderr)
+        check("bad override wrote nothing", not os.path.exists(out), "")
+
+        # A good run writes its results; a second run refuses to overwrite them; --overwrite works.
+        r = run("run", good, "--quiet")
+        check("good run", r.returncode == 0, r.stderr)
+        for name in ("deck.toml", "history.csv", "summary.json", "snapshots/series.xmf"):
+            check(f"good run wrote {name}", os.path.exists(os.path.join(out, name)), "")
+        check("quiet is quiet", r.stdout.strip() == "", r.stdout)
+        stamp = os.path.getmtime(os.path.join(out, "history.csv"))
+        r = run("run", good)
+        check("refuses existing results", r.returncode == 2 and "--overwrite" in r.stderr, r.stderr)
+        check("existing results untouched", os.path.getmtime(os.path.join(out, "history.csv")) == stamp, "")
+        r = run("run", good, "--overwrite", "--quiet", "--set", "run.end_time=2e-6")
+        check("--overwrite runs", r.returncode == 0, r.stderr)
+        with open(os.path.join(out, "deck.toml")) as f:
+            check("resolved deck holds the override", "2e-06" in f.read() or "2.0e-06" in f.read(), "")
+        r = run("run", good, "--restart", "latest")
+        check("--restart not yet available: exit 2", r.returncode == 2, r.stderr)
+
+        # Every shipped deck passes `spall check`.
+        decks = sorted(d for d in os.listdir(os.path.join(SRC, "decks")) if d.endswith(".toml"))
+        check("decks exist", len(decks) >= 6, str(decks))
+        for d in decks:
+            r = run("check", os.path.join(SRC, "decks", d))
+            check(f"check {d}", r.returncode == 0 and "particles" in r.stdout, r.stdout + r.stderr)
+        for args in (["--help"], ["--version"], ["info"]):
+            r = run(*args)
+            check(" ".join(args), r.returncode == 0 and r.stdout.strip() != "", r.stderr)
+        r = run("bogus")
+        check("unknown subcommand exits 2", r.returncode == 2, str(r.returncode))
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+    for f in failures:
+        print("FAIL", f)
+    print(f"{passed} passed, {len(failures)} failed")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
