@@ -54,7 +54,7 @@ const std::map<std::string, Names, std::less<>>& schema() {
       {"run", {"title", "dimension", "end_time", "max_steps", "resolution", "seed"}},
       {"solver",
        {"method", "kernel", "nodes_per_h", "cfl", "density", "artificial_viscosity", "h_min",
-        "h_max", "h_max_ratio"}},
+        "h_max", "h_max_ratio", "stress_form"}},
       {"solver.artificial_viscosity", {"alpha", "beta", "balsara"}},
       {"decomposition", {"curve", "partitioner", "rebalance_every"}},
       {"material", {"name", "density", "eos", "strength"}},

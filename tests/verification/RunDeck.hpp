@@ -12,6 +12,9 @@
 
 namespace spall::verification {
 
+// strtod, unlike std::stod, accepts subnormal values (a probe can read 1e-320).
+inline double parseDouble(const std::string& s) { return std::strtod(s.c_str(), nullptr); }
+
 inline std::string deckPath(const std::string& name) { return std::string(SPALL_SOURCE_DIR) + "/decks/" + name; }
 
 // Runs `spall run DECK --set ...` into a fresh directory under the system temp dir; returns it.
@@ -63,8 +66,8 @@ inline std::map<std::string, std::map<std::string, ProbeSeries>> readProbes(cons
     std::getline(ss, field, ',');
     std::getline(ss, value, ',');
     auto& s = out[probe][field];
-    s.t.push_back(std::stod(t));
-    s.value.push_back(std::stod(value));
+    s.t.push_back(parseDouble(t));
+    s.value.push_back(parseDouble(value));
   }
   return out;
 }
@@ -80,7 +83,7 @@ inline std::map<std::string, std::vector<double>> readHistory(const std::filesys
   while (std::getline(hs, cell, ',')) names.push_back(cell);
   while (std::getline(in, line)) {
     std::stringstream ss(line);
-    for (std::size_t k = 0; k < names.size() && std::getline(ss, cell, ','); ++k) out[names[k]].push_back(std::stod(cell));
+    for (std::size_t k = 0; k < names.size() && std::getline(ss, cell, ','); ++k) out[names[k]].push_back(parseDouble(cell));
   }
   return out;
 }

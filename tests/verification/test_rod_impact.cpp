@@ -93,7 +93,7 @@ TEST(RodImpact, Case2RigidWallDoublesTheStress) {
   EXPECT_NEAR(measured / sigma, 1.0, 0.05);
 }
 
-TEST(RodImpact, Case3LongerPmmaPadLowersThePeakStress) {
+TEST(RodImpact, Case3ThickerPmmaPadLowersThePeakStress) {
   // Lam et al. Fig. 6: pads of L_p = 5, 10, 20 mm on the 10 mm copper striker.
   std::vector<double> peaks;
   for (double lp : {0.005, 0.010, 0.020}) {
@@ -106,12 +106,18 @@ TEST(RodImpact, Case3LongerPmmaPadLowersThePeakStress) {
                                "output.every=1e-5"},
                               "rod_case3_" + std::to_string(lp), &rc);
     ASSERT_EQ(rc, 0);
-    const auto& s = readProbes(dir).at("striker_mid").at("stress_xx");
+    const auto probes = readProbes(dir);
+    const auto& s = probes.at("striker_mid").at("stress_xx");
     peaks.push_back(-*std::min_element(s.value.begin(), s.value.end()));
     std::printf("case 3, pad %.0f mm: peak striker stress %.1f MPa\n", lp * 1e3, peaks.back() / 1e6);
   }
-  // The trend of their Fig. 6, and far below the bare impact's 351.8 MPa.
-  EXPECT_GT(peaks[0], peaks[1]);
-  EXPECT_GT(peaks[1], peaks[2]);
-  EXPECT_LT(peaks[0], 0.6 * rho0 * c0 * v0 / 2.0);
+  // Their Fig. 6: the peak falls fast while L_p <= L_s and hardly beyond. Measured: 161, 106,
+  // 106 MPa. A drop of more than 10% from 5 to 10 mm, and within 10% from 10 to 20 mm.
+  EXPECT_GT(peaks[0], 1.1 * peaks[1]);
+  EXPECT_NEAR(peaks[2] / peaks[1], 1.0, 0.10);
+  // "the maximum stress is reduced by 74%" for L_p = 2 L_s against the bare striker's 351.8 MPa
+  // (read off their figures; we allow 74% +- 10 points for that reading and the SPH smearing).
+  const double reduction = 1.0 - peaks[2] / (rho0 * c0 * v0 / 2.0);
+  std::printf("case 3, pad 20 mm: peak reduced by %.0f%% (Lam et al.: 74%%)\n", 100 * reduction);
+  EXPECT_NEAR(reduction, 0.74, 0.10);
 }

@@ -64,10 +64,11 @@ TEST(Sod, L1DensityErrorIsSmallAndFallsWithResolution) {
   std::printf("Sod L1(u): %.4e -> %.4e; L1(p): %.4e -> %.4e\n", coarse.l1Velocity, fine.l1Velocity,
               coarse.l1Pressure, fine.l1Pressure);
   // Bound: SPH with Monaghan-Gingold viscosity smears the shock over ~3h and the contact over
-  // ~2h of the coarse right state; with 450 particles that is an L1 density error of order
-  // 1e-2 (measured about SOD_COARSE). 1.5e-2 fails a wrong wave speed or a missing wall.
-  EXPECT_LT(coarse.l1Density, 1.5e-2);
-  // Shock-dominated problems converge at first order at best in L1; require a clear decrease
-  // (order > 0.5) so that a resolution-independent error (a wrong state) cannot pass.
+  // ~2h of the coarse right state; with 450 particles that is an L1 density error of several
+  // 1e-3 (measured 5.5e-3 at n_h = 2). 8e-3 leaves room for round-off-level changes of the
+  // scheme but fails a wrong wave speed (1% in c already gives ~1e-2) or a missing wall.
+  EXPECT_LT(coarse.l1Density, 8e-3);
+  // Shock-dominated problems converge at first order at best in L1 (measured 0.9); require a
+  // clear decrease (order > 0.5) so that a resolution-independent error cannot pass.
   EXPECT_GT(order, 0.5);
 }

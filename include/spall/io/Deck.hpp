@@ -29,6 +29,12 @@ enum class DensityMethod {
   NormalizedSummation // rho_i = sum m_j W_ij / sum (m_j/rho_j) W_ij  (Lam et al. 2001, Eq. 25)
 };
 
+// The pair term of the momentum and energy equations. Both conserve momentum and energy exactly.
+enum class StressForm {
+  RhoSquared, // sigma_i/rho_i^2 + sigma_j/rho_j^2  (Lam et al. 2001, Eqs. 20-21)
+  RhoProduct  // (sigma_i + sigma_j)/(rho_i rho_j): stable at interfaces of very unequal density
+};
+
 struct ArtificialViscosityConfig {
   double alpha = 1.0;
   double beta = 2.0;
@@ -41,6 +47,7 @@ struct SolverConfig {
   double nodes_per_h = 1.5; // n_h target (Owen 2010, Sec. II-A)
   double cfl = 0.25;
   DensityMethod density = DensityMethod::Continuity;
+  StressForm stress_form = StressForm::RhoSquared;
   ArtificialViscosityConfig artificial_viscosity;
   // Limits on the smoothing scale: absolute bounds [h_min, h_max] in m (0 / inf: none), and a
   // bound relative to the particle's own volume: h <= h_max_ratio * n_h * (m/rho)^(1/dim), which
