@@ -147,14 +147,16 @@ std::vector<BodySummary> generateBodies(const Deck& deck, const std::vector<mate
       const double volume = forEachLatticeSite<Dim>(body.lattice == "hexagonal", dx, radius,
                                                     [&](const Vec<Dim>& site) {
                                                       const Vec<Dim> x = c + A * site;
-                                                      if (shape.contains(x)) out.push_back({x, 0.0});
+                                                      if (shape.contains(x))
+                                                        out.push_back({x, 0.0});
                                                     });
       for (auto& s : out) s.volume = volume * detA;
     }
     if (out.empty()) {
-      throw DeckError(body.where, fmt::format("body '{}' has no particles: its shape is smaller than "
-                                              "the spacing {:g} m (after run.resolution)",
-                                              body.name, dx));
+      throw DeckError(body.where,
+                      fmt::format("body '{}' has no particles: its shape is smaller than "
+                                  "the spacing {:g} m (after run.resolution)",
+                                  body.name, dx));
     }
     // Overlap: a particle of this body inside an earlier body's shape.
     if (!body.allow_overlap) {
@@ -196,10 +198,11 @@ std::vector<BodySummary> generateBodies(const Deck& deck, const std::vector<mate
           [&](const auto& model) { return model.energyForPressure(rho0, *body.initial_pressure); },
           eos[static_cast<std::size_t>(body.material_index)]);
       if (!ep) {
-        throw DeckError(body.where, fmt::format("body '{}': initial_pressure cannot be set with the "
-                                                "'{}' EOS of material '{}' (its pressure does not "
-                                                "depend on the internal energy); use initial_density",
-                                                body.name, material.eos.type, material.name));
+        throw DeckError(body.where,
+                        fmt::format("body '{}': initial_pressure cannot be set with the "
+                                    "'{}' EOS of material '{}' (its pressure does not "
+                                    "depend on the internal energy); use initial_density",
+                                    body.name, material.eos.type, material.name));
       }
       e0 = *ep;
     }
@@ -210,7 +213,8 @@ std::vector<BodySummary> generateBodies(const Deck& deck, const std::vector<mate
       Vec<Dim> xi = s.x;
       if (body.jitter > 0.0)
         for (int d = 0; d < Dim; ++d)
-          xi[d] += body.jitter * dx * hashedUniform(deck.run.seed, k, static_cast<std::uint64_t>(d));
+          xi[d] +=
+              body.jitter * dx * hashedUniform(deck.run.seed, k, static_cast<std::uint64_t>(d));
       x[k] = xi;
       v[k] = v0;
       if (body.radial_velocity) {
@@ -263,8 +267,9 @@ void applyEnergySources(const Deck& deck, ParticleStore& store, const solvers::S
 }
 
 #define SPALL_INSTANTIATE(D)                                                                       \
-  template std::vector<BodySummary> generateBodies<D>(const Deck&, const std::vector<materials::Eos>&, \
-                                                      ParticleStore&, const solvers::SphFields<D>&); \
+  template std::vector<BodySummary> generateBodies<D>(                                             \
+      const Deck&, const std::vector<materials::Eos>&, ParticleStore&,                             \
+      const solvers::SphFields<D>&);                                                               \
   template void applyEnergySources<D>(const Deck&, ParticleStore&, const solvers::SphFields<D>&);
 SPALL_INSTANTIATE(1)
 SPALL_INSTANTIATE(2)

@@ -32,8 +32,10 @@ std::vector<materials::Eos> buildEos(const Deck& deck) {
   std::vector<materials::Eos> eos;
   for (const auto& m : deck.materials) {
     const auto& c = m.eos;
-    if (c.type == "ideal_gas") eos.emplace_back(materials::IdealGas{c.gamma});
-    else if (c.type == "linear") eos.emplace_back(materials::LinearEos{m.density, c.bulk_modulus});
+    if (c.type == "ideal_gas")
+      eos.emplace_back(materials::IdealGas{c.gamma});
+    else if (c.type == "linear")
+      eos.emplace_back(materials::LinearEos{m.density, c.bulk_modulus});
     else if (c.type == "mie_gruneisen")
       eos.emplace_back(materials::MieGruneisen{m.density, c.c0, c.s, c.gamma0});
     else
@@ -46,17 +48,23 @@ std::vector<materials::Eos> buildEos(const Deck& deck) {
 
 const char* kernelName(KernelType k) {
   switch (k) {
-  case KernelType::CubicSpline: return "cubic_spline";
-  case KernelType::WendlandC2: return "wendland_c2";
-  case KernelType::WendlandC4: return "wendland_c4";
+  case KernelType::CubicSpline:
+    return "cubic_spline";
+  case KernelType::WendlandC2:
+    return "wendland_c2";
+  case KernelType::WendlandC4:
+    return "wendland_c4";
   }
   return "?";
 }
 const char* densityName(DensityMethod d) {
   switch (d) {
-  case DensityMethod::Continuity: return "continuity";
-  case DensityMethod::Summation: return "summation";
-  case DensityMethod::NormalizedSummation: return "normalized_summation";
+  case DensityMethod::Continuity:
+    return "continuity";
+  case DensityMethod::Summation:
+    return "summation";
+  case DensityMethod::NormalizedSummation:
+    return "normalized_summation";
   }
   return "?";
 }
@@ -79,13 +87,15 @@ public:
     for (const auto& b : deck.bodies) {
       if (b.insert_time > 0.0)
         throw DeckError(b.where, fmt::format("body '{}': insert_time arrives with the penetration "
-                                             "work and is not available yet", b.name));
+                                             "work and is not available yet",
+                                             b.name));
     }
     if (deck.checkpoint && mpi.root())
-      deferredWarnings_.push_back("[checkpoint] is accepted but not written yet: checkpoint/restart "
-                                  "arrives with its own issue");
+      deferredWarnings_.push_back(
+          "[checkpoint] is accepted but not written yet: checkpoint/restart "
+          "arrives with its own issue");
     baselineRss_ = residentBytes();
-    f_.registerIn(store_);
+    f_.registerIn(store_, deck.solver.artificial_viscosity.balsara);
     bodies_ = generateBodies<Dim>(deck, eos_, store_, f_);
     applyEnergySources<Dim>(deck, store_, f_);
     solver_ = solvers::makeSolver<Dim>({deck.solver, eos_}, store_, f_);
@@ -101,9 +111,12 @@ public:
 
   // A rough peak estimate: stored fields, ghosts (~10%) and neighbor indices at the target n_h.
   std::size_t memoryEstimate() const {
-    const double neighbors = std::pow(2.0 * 2.0 * deck_.solver.nodes_per_h, Dim) *
-                             (Dim == 3 ? 3.14159 / 6.0 : Dim == 2 ? 3.14159 / 4.0 : 1.0);
-    const double perParticle = 1.1 * static_cast<double>(store_.bytesPerParticle()) + 4.0 * neighbors + 16.0;
+    const double neighbors =
+        std::pow(2.0 * 2.0 * deck_.solver.nodes_per_h, Dim) * (Dim == 3   ? 3.14159 / 6.0
+                                                               : Dim == 2 ? 3.14159 / 4.0
+                                                                          : 1.0);
+    const double perParticle =
+        1.1 * static_cast<double>(store_.bytesPerParticle()) + 4.0 * neighbors + 16.0;
     return static_cast<std::size_t>(perParticle * static_cast<double>(particles()));
   }
   double firstTimeStep() const {
@@ -129,7 +142,8 @@ public:
       history_ = io::CsvLog((dir / "history.csv").string(),
                             "step,time,dt,particles,mass,momentum_x,momentum_y,momentum_z,"
                             "kinetic_energy,internal_energy,total_energy,wall_seconds");
-      if (!probes_->empty()) probesCsv_ = io::CsvLog((dir / "probes.csv").string(), "time,probe,field,value");
+      if (!probes_->empty())
+        probesCsv_ = io::CsvLog((dir / "probes.csv").string(), "time,probe,field,value");
     }
     MPI_Barrier(mpi_.comm());
     dir_ = dir;
@@ -250,12 +264,13 @@ private:
     if (!(dt > 1e-14 * deck_.run.end_time) || !std::isfinite(dt)) {
       std::string who = "no particle";
       if (dtLocal == dt && store_.localCount() > 0) {
-        who = fmt::format("particle id {} (h = {:.3e} m, sound speed {:.3e} m/s, density {:.3e} kg/m^3)",
-                          store_[f_.id][which], store_[f_.h][which], store_[f_.cs][which],
-                          store_[f_.rho][which]);
+        who = fmt::format(
+            "particle id {} (h = {:.3e} m, sound speed {:.3e} m/s, density {:.3e} kg/m^3)",
+            store_[f_.id][which], store_[f_.h][which], store_[f_.cs][which], store_[f_.rho][which]);
       }
-      throw RunError(fmt::format("time step collapsed to {:.3e} s at step {} (t = {:.6e} s), set by {}",
-                                 dt, step_, time_, who));
+      throw RunError(
+          fmt::format("time step collapsed to {:.3e} s at step {} (t = {:.6e} s), set by {}", dt,
+                      step_, time_, who));
     }
     return dt;
   }
@@ -281,13 +296,19 @@ private:
     const auto h = store_[f_.h];
     ParticleId bad = std::numeric_limits<ParticleId>::max();
     int field = 0;
-    for (std::size_t i = 0; i < store_.localCount() && bad == std::numeric_limits<ParticleId>::max(); ++i) {
+    for (std::size_t i = 0;
+         i < store_.localCount() && bad == std::numeric_limits<ParticleId>::max(); ++i) {
       int fld = 0;
-      if (!x[i].allFinite()) fld = 1;
-      else if (!v[i].allFinite()) fld = 2;
-      else if (!std::isfinite(e[i])) fld = 3;
-      else if (!(rho[i] > 0.0) || !std::isfinite(rho[i])) fld = 4;
-      else if (!(h[i] > 0.0) || !std::isfinite(h[i])) fld = 5;
+      if (!x[i].allFinite())
+        fld = 1;
+      else if (!v[i].allFinite())
+        fld = 2;
+      else if (!std::isfinite(e[i]))
+        fld = 3;
+      else if (!(rho[i] > 0.0) || !std::isfinite(rho[i]))
+        fld = 4;
+      else if (!(h[i] > 0.0) || !std::isfinite(h[i]))
+        fld = 5;
       if (fld) bad = id[i], field = fld;
     }
     ParticleId first;
@@ -295,10 +316,15 @@ private:
     if (first == std::numeric_limits<ParticleId>::max()) return;
     int code = first == bad ? field : 0, fieldCode = 0;
     MPI_Allreduce(&code, &fieldCode, 1, MPI_INT, MPI_MAX, mpi_.comm());
-    static const char* names[] = {"", "position", "velocity", "specific_internal_energy",
-                                  "density (non-positive or non-finite)", "smoothing_length"};
-    throw RunError(fmt::format("non-finite state: field '{}' of particle id {} at step {} (t = {:.6e} s)",
-                               names[fieldCode], first, step_, time_));
+    static const char* names[] = {"",
+                                  "position",
+                                  "velocity",
+                                  "specific_internal_energy",
+                                  "density (non-positive or non-finite)",
+                                  "smoothing_length"};
+    throw RunError(
+        fmt::format("non-finite state: field '{}' of particle id {} at step {} (t = {:.6e} s)",
+                    names[fieldCode], first, step_, time_));
   }
 
   // ---- output ---------------------------------------------------------------------------------
@@ -316,8 +342,9 @@ private:
       if (std::find(available.begin(), available.end(), name) == available.end()) {
         std::string list;
         for (const auto& a : available) list += (list.empty() ? "" : ", ") + a;
-        throw DeckError(deck_.output.where,
-                        fmt::format("output field '{}' does not exist (available: {})", name, list));
+        throw DeckError(
+            deck_.output.where,
+            fmt::format("output field '{}' does not exist (available: {})", name, list));
       }
     }
     outputFields_ = deck_.output.fields;
@@ -337,20 +364,24 @@ private:
       const std::size_t n = store_.localCount();
       std::vector<io::SnapshotField> fields;
       std::vector<FieldInfo> infos;
-      std::vector<Tensor<Dim>> smoothing, stress;
       for (const auto& name : outputFields_) {
+        const FieldInfo tensor{name, ScalarType::F64, {Dim, Dim}, kOutput};
         if (name == "smoothing") {
           // H = I/h for SPH (INTERFACE.md: the H tensor).
-          smoothing.resize(n);
           const auto h = store_[f_.h];
-          for (std::size_t i = 0; i < n; ++i) smoothing[i] = Tensor<Dim>::Identity() / h[i];
-          fields.push_back({FieldInfo{"smoothing", ScalarType::F64, {Dim, Dim}, kOutput}, smoothing.data()});
+          fields.push_back({tensor, nullptr, [h, n](void* rows) {
+                              auto* H = static_cast<Tensor<Dim>*>(rows);
+                              for (std::size_t i = 0; i < n; ++i)
+                                H[i] = Tensor<Dim>::Identity() / h[i];
+                            }});
         } else if (name == "stress") {
           // Full Cauchy stress -p I + S; S = 0 on the hydro path.
-          stress.resize(n);
           const auto p = store_[f_.p];
-          for (std::size_t i = 0; i < n; ++i) stress[i] = -p[i] * Tensor<Dim>::Identity();
-          fields.push_back({FieldInfo{"stress", ScalarType::F64, {Dim, Dim}, kOutput}, stress.data()});
+          fields.push_back({tensor, nullptr, [p, n](void* rows) {
+                              auto* sigma = static_cast<Tensor<Dim>*>(rows);
+                              for (std::size_t i = 0; i < n; ++i)
+                                sigma[i] = -p[i] * Tensor<Dim>::Identity();
+                            }});
         } else {
           const ColumnBase* c = store_.find(name);
           fields.push_back({c->info(), c->raw()});
@@ -363,7 +394,8 @@ private:
                         {time_, step_, Dim, BuildInfo::version()}, n, fields);
       const std::uint64_t global = mpi_.sum(static_cast<std::uint64_t>(n));
       if (mpi_.root()) {
-        io::writeSnapshotXdmf((snapDir / (base + ".xmf")).string(), base + ".h5", time_, global, Dim, infos);
+        io::writeSnapshotXdmf((snapDir / (base + ".xmf")).string(), base + ".h5", time_, global,
+                              Dim, infos);
         series_.emplace_back(time_, base + ".xmf");
         io::writeSeriesXdmf((snapDir / "series.xmf").string(), series_);
       }
@@ -382,9 +414,10 @@ private:
       const std::uint64_t n = mpi_.sum(static_cast<std::uint64_t>(store_.localCount()));
       const double wall = std::chrono::duration<double>(Clock::now() - wall0).count();
       if (history_.open())
-        history_.row(fmt::format("{},{:.17g},{:.17g},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.3f}",
-                                 step, time_, dt, n, t.mass, t.momentum[0], t.momentum[1], t.momentum[2],
-                                 t.kinetic, t.internal, t.total(), wall));
+        history_.row(fmt::format(
+            "{},{:.17g},{:.17g},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.3f}",
+            step, time_, dt, n, t.mass, t.momentum[0], t.momentum[1], t.momentum[2], t.kinetic,
+            t.internal, t.total(), wall));
       if (!probes_->empty()) {
         const auto samples = probes_->sample(store_, f_, mpi_, solver_->support());
         if (probesCsv_.open())
@@ -396,16 +429,20 @@ private:
 
   void banner(RunLog& log, const fs::path& dir) {
     std::vector<std::string> lines;
-    lines.push_back(fmt::format("spall {} (git {}): {}", BuildInfo::version(), BuildInfo::gitRevision(),
+    lines.push_back(fmt::format("spall {} (git {}): {}", BuildInfo::version(),
+                                BuildInfo::gitRevision(),
                                 deck_.run.title.empty() ? deck_.path : deck_.run.title));
-    lines.push_back(fmt::format("deck {} | {}D | {} {} n_h {:g} | density {} | {} rank{}", deck_.path, Dim,
-                                deck_.solver.method, kernelName(deck_.solver.kernel), deck_.solver.nodes_per_h,
-                                densityName(deck_.solver.density), mpi_.size(), mpi_.size() > 1 ? "s" : ""));
+    lines.push_back(
+        fmt::format("deck {} | {}D | {} {} n_h {:g} | density {} | {} rank{}", deck_.path, Dim,
+                    deck_.solver.method, kernelName(deck_.solver.kernel), deck_.solver.nodes_per_h,
+                    densityName(deck_.solver.density), mpi_.size(), mpi_.size() > 1 ? "s" : ""));
     for (const auto& b : bodies_)
-      lines.push_back(fmt::format("  body {:<16} {:>10} particles  mass {:.6g} kg  spacing {:.4g} m", b.name,
-                                  b.particles, b.mass, b.spacing));
+      lines.push_back(
+          fmt::format("  body {:<16} {:>10} particles  mass {:.6g} kg  spacing {:.4g} m", b.name,
+                      b.particles, b.mass, b.spacing));
     lines.push_back(fmt::format("particles {} | memory ~{:.1f} MB | end time {:.6g} s | output {}",
-                                particles(), memoryEstimate() / 1048576.0, deck_.run.end_time, dir.string()));
+                                particles(), memoryEstimate() / 1048576.0, deck_.run.end_time,
+                                dir.string()));
     log.banner(lines);
   }
 
@@ -417,41 +454,57 @@ private:
     const double massErr = std::abs(t.mass - totals0_.mass) / totals0_.mass;
     double momScale = 0.0, momErr = 0.0;
     for (int d = 0; d < 3; ++d) {
-      momScale = std::max({momScale, std::abs(totals0_.momentum[d]), t.momentumScale[d], totals0_.momentumScale[d]});
+      momScale = std::max({momScale, std::abs(totals0_.momentum[d]), t.momentumScale[d],
+                           totals0_.momentumScale[d]});
       momErr = std::max(momErr, std::abs(t.momentum[d] - totals0_.momentum[d]));
     }
     momErr = momScale > 0.0 ? momErr / momScale : 0.0;
     const double e0 = totals0_.total();
     const double energyErr = std::abs(t.total() - e0) / std::max(std::abs(e0), 1e-300);
-    const std::size_t peak = static_cast<std::size_t>(mpi_.sum(static_cast<double>(peakResidentBytes())));
+    const std::size_t peak =
+        static_cast<std::size_t>(mpi_.sum(static_cast<double>(peakResidentBytes())));
     const std::size_t base = static_cast<std::size_t>(mpi_.sum(static_cast<double>(baselineRss_)));
-    const double meanNeighbors = step_ + 1 > 0 ? static_cast<double>(pairCount_) / (static_cast<double>(step_ + 1) * std::max<double>(1.0, static_cast<double>(particles()))) : 0.0;
-    const double phaseSum = phases_.neighbors + phases_.density + phases_.forces + phases_.integration +
-                            phases_.boundaries + phases_.output;
-    log.summary({fmt::format("done: {} steps to t = {:.6g} s in {:.2f} s wall | {:.3g} particle-steps/s ({:.3g} per core)",
-                             step_, time_, wall, rate, rate / mpi_.size()),
-                 fmt::format("conservation: mass {:.1e} | momentum {:.1e} | total energy {:.1e} (relative)",
-                             massErr, momErr, energyErr),
-                 fmt::format("time: neighbors {:.1f}% density {:.1f}% forces {:.1f}% integration {:.1f}% boundaries {:.1f}% output {:.1f}%",
-                             100 * phases_.neighbors / wall, 100 * phases_.density / wall, 100 * phases_.forces / wall,
-                             100 * phases_.integration / wall, 100 * phases_.boundaries / wall, 100 * phases_.output / wall),
-                 fmt::format("output in {} (open snapshots/series.xmf in ParaView)", dir_.string())});
+    const double meanNeighbors = step_ + 1 > 0
+                                     ? static_cast<double>(pairCount_) /
+                                           (static_cast<double>(step_ + 1) *
+                                            std::max<double>(1.0, static_cast<double>(particles())))
+                                     : 0.0;
+    const double phaseSum = phases_.neighbors + phases_.density + phases_.forces +
+                            phases_.integration + phases_.boundaries + phases_.output;
+    log.summary(
+        {fmt::format("done: {} steps to t = {:.6g} s in {:.2f} s wall | {:.3g} particle-steps/s "
+                     "({:.3g} per core)",
+                     step_, time_, wall, rate, rate / mpi_.size()),
+         fmt::format("conservation: mass {:.1e} | momentum {:.1e} | total energy {:.1e} (relative)",
+                     massErr, momErr, energyErr),
+         fmt::format("time: neighbors {:.1f}% density {:.1f}% forces {:.1f}% integration {:.1f}% "
+                     "boundaries {:.1f}% output {:.1f}%",
+                     100 * phases_.neighbors / wall, 100 * phases_.density / wall,
+                     100 * phases_.forces / wall, 100 * phases_.integration / wall,
+                     100 * phases_.boundaries / wall, 100 * phases_.output / wall),
+         fmt::format("output in {} (open snapshots/series.xmf in ParaView)", dir_.string())});
     if (!mpi_.root()) return;
     std::ofstream js(dir_ / "summary.json");
     js << fmt::format(
         "{{\n  \"deck\": \"{}\",\n  \"title\": \"{}\",\n  \"ranks\": {},\n  \"dimension\": {},\n"
-        "  \"particles\": {},\n  \"steps\": {},\n  \"time\": {:.17g},\n  \"wall_seconds\": {:.6f},\n"
-        "  \"particle_steps_per_second\": {:.6g},\n  \"particle_steps_per_second_per_core\": {:.6g},\n"
+        "  \"particles\": {},\n  \"steps\": {},\n  \"time\": {:.17g},\n  \"wall_seconds\": "
+        "{:.6f},\n"
+        "  \"particle_steps_per_second\": {:.6g},\n  \"particle_steps_per_second_per_core\": "
+        "{:.6g},\n"
         "  \"mean_neighbors\": {:.3f},\n  \"peak_rss_bytes\": {},\n  \"baseline_rss_bytes\": {},\n"
         "  \"bytes_per_particle\": {:.1f},\n"
-        "  \"phases\": {{\"neighbors\": {:.6f}, \"density\": {:.6f}, \"forces\": {:.6f}, \"integration\": {:.6f}, "
+        "  \"phases\": {{\"neighbors\": {:.6f}, \"density\": {:.6f}, \"forces\": {:.6f}, "
+        "\"integration\": {:.6f}, "
         "\"boundaries\": {:.6f}, \"output\": {:.6f}, \"other\": {:.6f}}},\n"
-        "  \"conservation\": {{\"mass_relative\": {:.6e}, \"momentum_relative\": {:.6e}, \"energy_relative\": {:.6e}}}\n}}\n",
-        jsonEscape(options.deckPath), jsonEscape(deck_.run.title), mpi_.size(), Dim, particles(), step_, time_, wall,
-        rate, rate / mpi_.size(), meanNeighbors, peak, base,
-        particles() > 0 ? static_cast<double>(peak - std::min(peak, base)) / static_cast<double>(particles()) : 0.0,
-        phases_.neighbors, phases_.density, phases_.forces, phases_.integration, phases_.boundaries, phases_.output,
-        std::max(0.0, wall - phaseSum), massErr, momErr, energyErr);
+        "  \"conservation\": {{\"mass_relative\": {:.6e}, \"momentum_relative\": {:.6e}, "
+        "\"energy_relative\": {:.6e}}}\n}}\n",
+        jsonEscape(options.deckPath), jsonEscape(deck_.run.title), mpi_.size(), Dim, particles(),
+        step_, time_, wall, rate, rate / mpi_.size(), meanNeighbors, peak, base,
+        particles() > 0
+            ? static_cast<double>(peak - std::min(peak, base)) / static_cast<double>(particles())
+            : 0.0,
+        phases_.neighbors, phases_.density, phases_.forces, phases_.integration, phases_.boundaries,
+        phases_.output, std::max(0.0, wall - phaseSum), massErr, momErr, energyErr);
   }
 
   static std::string jsonEscape(const std::string& s) {
@@ -493,22 +546,27 @@ private:
 // Refuses to touch a directory that holds results, unless asked to; with --overwrite, removes
 // only what a run writes there.
 void prepareOutputDirectory(const fs::path& dir, const RunOptions& options) {
-  static const char* ours[] = {"deck.toml", "history.csv", "probes.csv", "summary.json", "snapshots", "checkpoints"};
+  static const char* ours[] = {"deck.toml",    "history.csv", "probes.csv",
+                               "summary.json", "snapshots",   "checkpoints"};
   if (!fs::exists(dir)) return;
-  if (!fs::is_directory(dir)) throw UsageError(fmt::format("output path '{}' exists and is not a directory", dir.string()));
+  if (!fs::is_directory(dir))
+    throw UsageError(fmt::format("output path '{}' exists and is not a directory", dir.string()));
   bool hasResults = false;
   for (const char* name : ours) hasResults = hasResults || fs::exists(dir / name);
   if (!hasResults) return;
   if (!options.overwrite)
-    throw UsageError(fmt::format("output directory '{}' already holds results; pass --overwrite to replace "
-                                 "them or --output DIR to write elsewhere",
-                                 dir.string()));
+    throw UsageError(
+        fmt::format("output directory '{}' already holds results; pass --overwrite to replace "
+                    "them or --output DIR to write elsewhere",
+                    dir.string()));
   for (const char* name : ours) fs::remove_all(dir / name);
 }
 
-template <int Dim> void runDim(const Deck& deck, const RunOptions& options, const parallel::MpiContext& mpi) {
+template <int Dim>
+void runDim(const Deck& deck, const RunOptions& options, const parallel::MpiContext& mpi) {
   Simulation<Dim> sim(deck, mpi); // every deck error surfaces here, before anything is written
-  const fs::path dir = options.outputDir ? fs::path(*options.outputDir) : fs::path(deck.output.directory);
+  const fs::path dir =
+      options.outputDir ? fs::path(*options.outputDir) : fs::path(deck.output.directory);
   int ok = 1;
   std::string message;
   if (mpi.root()) {
@@ -531,12 +589,15 @@ template <int Dim> void checkDim(const Deck& deck, const parallel::MpiContext& m
   fmt::print("deck {}: OK\n", deck.path);
   if (!deck.run.title.empty()) fmt::print("  title      {}\n", deck.run.title);
   fmt::print("  dimension  {}D, solver {} ({}, n_h {:g}, density {})\n", Dim, deck.solver.method,
-             kernelName(deck.solver.kernel), deck.solver.nodes_per_h, densityName(deck.solver.density));
+             kernelName(deck.solver.kernel), deck.solver.nodes_per_h,
+             densityName(deck.solver.density));
   for (const auto& b : sim.bodies())
-    fmt::print("  body       {:<16} {:>10} particles  mass {:.6g} kg  spacing {:.4g} m\n", b.name, b.particles,
-               b.mass, b.spacing);
-  fmt::print("  particles  {}\n  memory     ~{:.1f} MB (estimate)\n", sim.particles(), sim.memoryEstimate() / 1048576.0);
-  fmt::print("  first dt   {:.4g} s (before viscosity; end time {:.6g} s)\n", dt, deck.run.end_time);
+    fmt::print("  body       {:<16} {:>10} particles  mass {:.6g} kg  spacing {:.4g} m\n", b.name,
+               b.particles, b.mass, b.spacing);
+  fmt::print("  particles  {}\n  memory     ~{:.1f} MB (estimate)\n", sim.particles(),
+             sim.memoryEstimate() / 1048576.0);
+  fmt::print("  first dt   {:.4g} s (before viscosity; end time {:.6g} s)\n", dt,
+             deck.run.end_time);
   fmt::print("  output     {}\n", deck.output.directory);
   for (const auto& w : sim.warnings()) fmt::print("  warning    {}\n", w);
 }
@@ -547,20 +608,27 @@ void runDeck(const Deck& deck, const RunOptions& options, const parallel::MpiCon
   if (options.restart)
     throw UsageError("--restart arrives with checkpoint/restart chains and is not available yet");
   if (mpi.size() > 1)
-    throw UsageError("this build runs on 1 MPI rank; the domain decomposition that spreads a run over "
-                     "several ranks is not available yet");
+    throw UsageError(
+        "this build runs on 1 MPI rank; the domain decomposition that spreads a run over "
+        "several ranks is not available yet");
   switch (deck.run.dimension) {
-  case 1: return runDim<1>(deck, options, mpi);
-  case 2: return runDim<2>(deck, options, mpi);
-  default: return runDim<3>(deck, options, mpi);
+  case 1:
+    return runDim<1>(deck, options, mpi);
+  case 2:
+    return runDim<2>(deck, options, mpi);
+  default:
+    return runDim<3>(deck, options, mpi);
   }
 }
 
 void checkDeck(const Deck& deck, const parallel::MpiContext& mpi) {
   switch (deck.run.dimension) {
-  case 1: return checkDim<1>(deck, mpi);
-  case 2: return checkDim<2>(deck, mpi);
-  default: return checkDim<3>(deck, mpi);
+  case 1:
+    return checkDim<1>(deck, mpi);
+  case 2:
+    return checkDim<2>(deck, mpi);
+  default:
+    return checkDim<3>(deck, mpi);
   }
 }
 

@@ -27,7 +27,8 @@ void RunLog::warning(const std::string& text) {
   if (enabled_) fmt::print(stderr, "warning: {}\n", text);
 }
 
-void RunLog::progress(long long step, double time, double endTime, double dt, std::size_t particles, double wall) {
+void RunLog::progress(long long step, double time, double endTime, double dt, std::size_t particles,
+                      double wall) {
   if (!enabled_) return;
   // Terminal: redraw at most 5 times a second. Batch log: a line every 10 s.
   const double every = tty_ ? 0.2 : 10.0;
@@ -35,8 +36,9 @@ void RunLog::progress(long long step, double time, double endTime, double dt, st
   lastPrint_ = wall;
   const double fraction = endTime > 0.0 ? time / endTime : 0.0;
   const double eta = fraction > 0.0 ? wall * (1.0 - fraction) / fraction : -1.0;
-  const std::string line = fmt::format("step {:>8}  t {:.4e} s ({:5.1f}%)  dt {:.3e}  N {}  wall {}  ETA {}", step,
-                                       time, 100.0 * fraction, dt, particles, duration(wall), duration(eta));
+  const std::string line =
+      fmt::format("step {:>8}  t {:.4e} s ({:5.1f}%)  dt {:.3e}  N {}  wall {}  ETA {}", step, time,
+                  100.0 * fraction, dt, particles, duration(wall), duration(eta));
   if (tty_) {
     fmt::print("\r{}\033[K", line);
     lineOpen_ = true;

@@ -22,8 +22,12 @@ std::size_t statusKiB(const char* key) {
 }
 } // namespace
 
-std::size_t residentBytes() { return statusKiB("VmRSS"); }
-std::size_t peakResidentBytes() { return statusKiB("VmHWM"); }
+std::size_t residentBytes() {
+  return statusKiB("VmRSS");
+}
+std::size_t peakResidentBytes() {
+  return statusKiB("VmHWM");
+}
 
 std::string infoText() {
   char mpiVersion[MPI_MAX_LIBRARY_VERSION_STRING];
@@ -38,11 +42,14 @@ std::string infoText() {
   s += fmt::format("compiler   {} ({}), C++{}\n", BuildInfo::compiler(), BuildInfo::buildType(),
                    __cplusplus / 100 % 100);
   s += fmt::format("MPI        {}\n", mpi);
-  s += fmt::format("HDF5       {}.{}.{} (parallel{})\n", maj, min, rel, H5_HAVE_PARALLEL ? "" : ": NO");
+  s += fmt::format("HDF5       {}.{}.{} (parallel{})\n", maj, min, rel,
+                   H5_HAVE_PARALLEL ? "" : ": NO");
   s += fmt::format("METIS      {}.{}.{}\n", METIS_VER_MAJOR, METIS_VER_MINOR, METIS_VER_SUBMINOR);
-  s += fmt::format("Eigen      {}.{}.{}\n", EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION, EIGEN_MINOR_VERSION);
+  s += fmt::format("Eigen      {}.{}.{}\n", EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION,
+                   EIGEN_MINOR_VERSION);
   s += fmt::format("toml++     {}.{}.{}\n", TOML_LIB_MAJOR, TOML_LIB_MINOR, TOML_LIB_PATCH);
-  s += "features   dimensions 1/2/3; solvers: sph; kernels: cubic_spline, wendland_c2, wendland_c4;\n"
+  s += "features   dimensions 1/2/3; solvers: sph; kernels: cubic_spline, wendland_c2, "
+       "wendland_c4;\n"
        "           density: continuity, summation, normalized_summation; EOS: ideal_gas, linear,\n"
        "           mie_gruneisen; boundaries: rigid_wall, periodic; output: HDF5 + XDMF, CSV\n"
        "not yet    multi-rank decomposition, checkpoint/restart, strength, tillotson, asph, mpm,\n"

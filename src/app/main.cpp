@@ -32,21 +32,26 @@ int main(int argc, char** argv) {
   runCmd->add_option("deck", run.deckPath, "deck file (TOML)")->required();
   runCmd->add_option("--set", run.overrides, "override a deck value: KEY=VALUE (dotted path)");
   runCmd->add_option("--restart", restart, "continue from a checkpoint: latest or a path");
-  runCmd->add_option("--output", outputDir, "output directory (default: the deck's output.directory)");
+  runCmd->add_option("--output", outputDir,
+                     "output directory (default: the deck's output.directory)");
   runCmd->add_flag("--overwrite", run.overwrite, "replace results already in the output directory");
   runCmd->add_flag("--quiet", run.quiet, "print errors only");
 
   std::string checkDeckPath;
   std::vector<std::string> checkOverrides;
-  auto* checkCmd = cli.add_subcommand("check", "parse and validate a deck, print a summary; runs nothing");
+  auto* checkCmd =
+      cli.add_subcommand("check", "parse and validate a deck, print a summary; runs nothing");
   checkCmd->add_option("deck", checkDeckPath, "deck file (TOML)")->required();
   checkCmd->add_option("--set", checkOverrides, "override a deck value: KEY=VALUE");
 
-  auto* infoCmd = cli.add_subcommand("info", "version, git revision, compiler, MPI, HDF5, METIS, features");
+  auto* infoCmd =
+      cli.add_subcommand("info", "version, git revision, compiler, MPI, HDF5, METIS, features");
 
-  auto* elementCmd = cli.add_subcommand("element", "single-element constitutive driver (not available yet)");
+  auto* elementCmd =
+      cli.add_subcommand("element", "single-element constitutive driver (not available yet)");
   elementCmd->allow_extras();
-  auto* historyCmd = cli.add_subcommand("history", "a particle's deformation history (not available yet)");
+  auto* historyCmd =
+      cli.add_subcommand("history", "a particle's deformation history (not available yet)");
   historyCmd->allow_extras();
 
   try {
@@ -54,8 +59,10 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // --help and --version are "errors" with exit code 0 in CLI11.
     int code = 0;
-    if (mpi.root()) code = cli.exit(e);
-    else code = e.get_exit_code();
+    if (mpi.root())
+      code = cli.exit(e);
+    else
+      code = e.get_exit_code();
     return code == 0 ? 0 : 2;
   }
 
@@ -65,7 +72,9 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*elementCmd || *historyCmd)
-      return fail(mpi, 2, "error: this command arrives with the geomaterials work and is not available yet");
+      return fail(
+          mpi, 2,
+          "error: this command arrives with the geomaterials work and is not available yet");
     if (*checkCmd) {
       const auto deck = spall::loadDeck(checkDeckPath, checkOverrides);
       spall::app::checkDeck(deck, mpi);

@@ -5,7 +5,8 @@ namespace spall {
 std::string DeckError::formatted() const {
   std::string s = where_.file.empty() ? std::string("deck") : where_.file;
   if (where_.line > 0) {
-    s += ":" + std::to_string(where_.line) + ":" + std::to_string(where_.column > 0 ? where_.column : 1);
+    s += ":" + std::to_string(where_.line) + ":" +
+         std::to_string(where_.column > 0 ? where_.column : 1);
   }
   return s + ": error: " + what();
 }

@@ -15,16 +15,25 @@ template <int Dim>
 double fieldValue(const ProbeField& pf, const ParticleStore& s, const solvers::SphFields<Dim>& f,
                   std::size_t i) {
   switch (pf.kind) {
-  case ProbeField::Kind::Position: return s[f.x][i][pf.a];
-  case ProbeField::Kind::Velocity: return s[f.v][i][pf.a];
+  case ProbeField::Kind::Position:
+    return s[f.x][i][pf.a];
+  case ProbeField::Kind::Velocity:
+    return s[f.v][i][pf.a];
   // Cauchy stress sigma = -p I + S; S = 0 on the hydro path.
-  case ProbeField::Kind::Stress: return pf.a == pf.b ? -s[f.p][i] : 0.0;
-  case ProbeField::Kind::Pressure: return s[f.p][i];
-  case ProbeField::Kind::Density: return s[f.rho][i];
-  case ProbeField::Kind::Energy: return s[f.e][i];
-  case ProbeField::Kind::SoundSpeed: return s[f.cs][i];
-  case ProbeField::Kind::Mass: return s[f.m][i];
-  case ProbeField::Kind::SmoothingLength: return s[f.h][i];
+  case ProbeField::Kind::Stress:
+    return pf.a == pf.b ? -s[f.p][i] : 0.0;
+  case ProbeField::Kind::Pressure:
+    return s[f.p][i];
+  case ProbeField::Kind::Density:
+    return s[f.rho][i];
+  case ProbeField::Kind::Energy:
+    return s[f.e][i];
+  case ProbeField::Kind::SoundSpeed:
+    return s[f.cs][i];
+  case ProbeField::Kind::Mass:
+    return s[f.m][i];
+  case ProbeField::Kind::SmoothingLength:
+    return s[f.h][i];
   }
   return 0.0;
 }
@@ -63,7 +72,8 @@ ProbeField resolveProbeField(const std::string& name, int dim, const SourceLocat
   if (name == "smoothing_length") return {K::SmoothingLength, 0, 0, name};
   std::string list;
   for (const auto& n : probeFieldNames(dim)) list += (list.empty() ? "" : ", ") + n;
-  throw DeckError(where, fmt::format("unknown probe field '{}' in {}D (available: {})", name, dim, list));
+  throw DeckError(where,
+                  fmt::format("unknown probe field '{}' in {}D (available: {})", name, dim, list));
 }
 
 template <int Dim> Probes<Dim>::Probes(const std::vector<ProbeConfig>& config) {
@@ -98,7 +108,8 @@ void Probes<Dim>::attach(const ParticleStore& s, const solvers::SphFields<Dim>& 
 }
 
 template <int Dim>
-std::vector<ProbeSample> Probes<Dim>::sample(const ParticleStore& s, const solvers::SphFields<Dim>& f,
+std::vector<ProbeSample> Probes<Dim>::sample(const ParticleStore& s,
+                                             const solvers::SphFields<Dim>& f,
                                              const parallel::MpiContext& mpi, double support) {
   std::vector<ProbeSample> out;
   const auto id = s[f.id];
@@ -132,14 +143,16 @@ std::vector<ProbeSample> Probes<Dim>::sample(const ParticleStore& s, const solve
         const double r = (x[i] - at).norm();
         if (r >= support * h[i]) continue;
         const double w = m[i] / rho[i] * W::W(r, h[i]);
-        for (std::size_t k = 0; k < p.fields.size(); ++k) acc[k] += w * fieldValue(p.fields[k], s, f, i);
+        for (std::size_t k = 0; k < p.fields.size(); ++k)
+          acc[k] += w * fieldValue(p.fields[k], s, f, i);
         acc.back() += w;
       }
     }
     mpi.sumInRankOrder(acc);
     const double weight = acc.back();
     for (std::size_t k = 0; k < p.fields.size(); ++k) {
-      const double value = weight > 0.0 ? acc[k] / weight : std::numeric_limits<double>::quiet_NaN();
+      const double value =
+          weight > 0.0 ? acc[k] / weight : std::numeric_limits<double>::quiet_NaN();
       out.push_back({p.config.name, p.fields[k].name, value});
     }
   }

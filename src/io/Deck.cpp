@@ -198,9 +198,10 @@ void DeckReader::readSolver(const TableReader& r, SolverConfig& s) const {
   s.density = density == "summation"              ? DensityMethod::Summation
               : density == "normalized_summation" ? DensityMethod::NormalizedSummation
                                                   : DensityMethod::Continuity;
-  s.stress_form = r.choice("stress_form", {"rho_squared", "rho_product"}, "rho_squared") == "rho_product"
-                      ? StressForm::RhoProduct
-                      : StressForm::RhoSquared;
+  s.stress_form =
+      r.choice("stress_form", {"rho_squared", "rho_product"}, "rho_squared") == "rho_product"
+          ? StressForm::RhoProduct
+          : StressForm::RhoSquared;
   if (const auto v = r.number("nodes_per_h")) {
     r.check(*v > 0.0, "nodes_per_h", "> 0", *v);
     s.nodes_per_h = *v;

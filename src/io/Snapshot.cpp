@@ -145,7 +145,15 @@ void writeField(hid_t group, hid_t dxpl, const SnapshotField& f, std::uint64_t g
   // A dataset with no rows has no storage to write to; every rank knows, so all skip together.
   if (globalCount == 0) return;
   static const double dummy = 0.0; // HDF5 rejects a null buffer even for an empty selection
-  const void* buf = f.data ? f.data : &dummy;
+  std::vector<std::byte> scratch;
+  const void* buf = f.data;
+  if (!buf && f.fill && localCount > 0) {
+    const std::size_t scalarBytes = f.info.scalar == ScalarType::I32 ? 4 : 8;
+    scratch.resize(localCount * f.info.scalarsPerParticle() * scalarBytes);
+    f.fill(scratch.data());
+    buf = scratch.data();
+  }
+  if (!buf) buf = &dummy;
   check(H5Dwrite(dset, memoryType(f.info.scalar), memSpace, fileSpace, dxpl, buf), path,
         ("H5Dwrite(" + f.info.name + ")").c_str());
 }

@@ -16,7 +16,11 @@ double interpolate(const std::vector<double>& x, const std::vector<double>& y, d
 }
 } // namespace
 
-double PsiTable::psi0(double nh) const { return interpolate(nh_, psi_, nh); }
-double PsiTable::nodesPerH(double psi0) const { return interpolate(psi_, nh_, psi0); }
+double PsiTable::psi0(double nh) const {
+  return interpolate(nh_, psi_, nh);
+}
+double PsiTable::nodesPerH(double psi0) const {
+  return interpolate(psi_, nh_, psi0);
+}
 
 } // namespace spall::kernels

@@ -9,9 +9,12 @@ namespace spall::solvers {
 namespace {
 
 template <int Dim> double ipow(double x) {
-  if constexpr (Dim == 1) return x;
-  else if constexpr (Dim == 2) return x * x;
-  else return x * x * x;
+  if constexpr (Dim == 1)
+    return x;
+  else if constexpr (Dim == 2)
+    return x * x;
+  else
+    return x * x * x;
 }
 
 template <int Dim, class K> class Sph final : public Solver<Dim> {
@@ -77,11 +80,15 @@ public:
   void computeRates(const neighbors::NeighborList& nl) override {
     const bool product = cfg_.stress_form == StressForm::RhoProduct;
     if (cfg_.artificial_viscosity.balsara) {
-      if (product) ratesLoop<true, true>(nl);
-      else ratesLoop<true, false>(nl);
+      if (product)
+        ratesLoop<true, true>(nl);
+      else
+        ratesLoop<true, false>(nl);
     } else {
-      if (product) ratesLoop<false, true>(nl);
-      else ratesLoop<false, false>(nl);
+      if (product)
+        ratesLoop<false, true>(nl);
+      else
+        ratesLoop<false, false>(nl);
     }
   }
 
@@ -152,8 +159,8 @@ private:
     const auto drhodt = s_[f_.drhodt];
     const auto psi = s_[f_.psi0];
     const auto muMax = s_[f_.muMax];
-    const auto divv = s_[f_.divv];
-    const auto curlv = s_[f_.curlv];
+    const auto divv = Balsara ? s_[f_.divv] : std::span<double>{};
+    const auto curlv = Balsara ? s_[f_.curlv] : std::span<double>{};
     const double alpha = cfg_.artificial_viscosity.alpha, beta = cfg_.artificial_viscosity.beta;
     const double sigma = K::sigma();
     const std::size_t n = s_.localCount();
@@ -210,10 +217,10 @@ private:
       }
       acc[i] = ai;
       dedt[i] = dei;
-      // Continuity, d rho_i/dt = -rho_i div v_i with div v_i = -sum_j (m_j/rho_j) v_ij . grad W(r_ij, h_i):
-      // volume-weighted, so it stays accurate across a material interface with a large density
-      // jump, and with i's own support (gather), so that it stays consistent where h changes
-      // fast. (The pair-averaged gradient of the momentum equation over-compresses the Noh
+      // Continuity, d rho_i/dt = -rho_i div v_i with div v_i = -sum_j (m_j/rho_j) v_ij . grad
+      // W(r_ij, h_i): volume-weighted, so it stays accurate across a material interface with a
+      // large density jump, and with i's own support (gather), so that it stays consistent where h
+      // changes fast. (The pair-averaged gradient of the momentum equation over-compresses the Noh
       // shock by ~40% here; the gather form gives the post-shock density within 8%.)
       drhodt[i] = rhoi * drhoi;
       psi[i] = psii;
@@ -255,8 +262,11 @@ std::unique_ptr<Solver<Dim>> makeSolver(const SolverSetup& setup, ParticleStore&
   return nullptr;
 }
 
-template std::unique_ptr<Solver<1>> makeSolver<1>(const SolverSetup&, ParticleStore&, const SphFields<1>&);
-template std::unique_ptr<Solver<2>> makeSolver<2>(const SolverSetup&, ParticleStore&, const SphFields<2>&);
-template std::unique_ptr<Solver<3>> makeSolver<3>(const SolverSetup&, ParticleStore&, const SphFields<3>&);
+template std::unique_ptr<Solver<1>> makeSolver<1>(const SolverSetup&, ParticleStore&,
+                                                  const SphFields<1>&);
+template std::unique_ptr<Solver<2>> makeSolver<2>(const SolverSetup&, ParticleStore&,
+                                                  const SphFields<2>&);
+template std::unique_ptr<Solver<3>> makeSolver<3>(const SolverSetup&, ParticleStore&,
+                                                  const SphFields<3>&);
 
 } // namespace spall::solvers

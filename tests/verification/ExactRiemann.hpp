@@ -17,7 +17,8 @@ public:
   ExactRiemann(GasState left, GasState right, double gamma) : L_(left), R_(right), g_(gamma) {
     cL_ = std::sqrt(g_ * L_.p / L_.rho);
     cR_ = std::sqrt(g_ * R_.p / R_.rho);
-    if (2.0 / (g_ - 1.0) * (cL_ + cR_) <= R_.u - L_.u) throw std::invalid_argument("vacuum is generated");
+    if (2.0 / (g_ - 1.0) * (cL_ + cR_) <= R_.u - L_.u)
+      throw std::invalid_argument("vacuum is generated");
     // Two-rarefaction guess (Toro Eq. 4.46), then Newton on f(p) = fL + fR + du.
     const double z = (g_ - 1.0) / (2.0 * g_);
     double p = std::pow((cL_ + cR_ - 0.5 * (g_ - 1.0) * (R_.u - L_.u)) /

@@ -13,16 +13,22 @@
 namespace spall::verification {
 
 // strtod, unlike std::stod, accepts subnormal values (a probe can read 1e-320).
-inline double parseDouble(const std::string& s) { return std::strtod(s.c_str(), nullptr); }
+inline double parseDouble(const std::string& s) {
+  return std::strtod(s.c_str(), nullptr);
+}
 
-inline std::string deckPath(const std::string& name) { return std::string(SPALL_SOURCE_DIR) + "/decks/" + name; }
+inline std::string deckPath(const std::string& name) {
+  return std::string(SPALL_SOURCE_DIR) + "/decks/" + name;
+}
 
 // Runs `spall run DECK --set ...` into a fresh directory under the system temp dir; returns it.
-inline std::filesystem::path runSpall(const std::string& deck, const std::vector<std::string>& overrides,
+inline std::filesystem::path runSpall(const std::string& deck,
+                                      const std::vector<std::string>& overrides,
                                       const std::string& tag, int* exitCode = nullptr) {
   const auto dir = std::filesystem::temp_directory_path() / ("spall_verify_" + tag);
   std::filesystem::remove_all(dir);
-  std::string cmd = std::string(SPALL_BINARY) + " run " + deck + " --quiet --output " + dir.string();
+  std::string cmd =
+      std::string(SPALL_BINARY) + " run " + deck + " --quiet --output " + dir.string();
   for (const auto& o : overrides) cmd += " --set '" + o + "'";
   const int rc = std::system(cmd.c_str());
   if (exitCode) *exitCode = WEXITSTATUS(rc);
@@ -53,7 +59,8 @@ struct ProbeSeries {
 };
 
 // probes.csv as {probe: {field: series}}.
-inline std::map<std::string, std::map<std::string, ProbeSeries>> readProbes(const std::filesystem::path& dir) {
+inline std::map<std::string, std::map<std::string, ProbeSeries>>
+readProbes(const std::filesystem::path& dir) {
   std::map<std::string, std::map<std::string, ProbeSeries>> out;
   std::ifstream in(dir / "probes.csv");
   std::string line;
@@ -83,7 +90,8 @@ inline std::map<std::string, std::vector<double>> readHistory(const std::filesys
   while (std::getline(hs, cell, ',')) names.push_back(cell);
   while (std::getline(in, line)) {
     std::stringstream ss(line);
-    for (std::size_t k = 0; k < names.size() && std::getline(ss, cell, ','); ++k) out[names[k]].push_back(parseDouble(cell));
+    for (std::size_t k = 0; k < names.size() && std::getline(ss, cell, ','); ++k)
+      out[names[k]].push_back(parseDouble(cell));
   }
   return out;
 }

@@ -19,8 +19,10 @@ double plateau(const ProbeSeries& s, double expected) {
     if (s.value[k] < 0.5 * expected) inside.push_back(s.value[k]);
   if (inside.size() < 5) return 0.0;
   const std::size_t a = inside.size() / 5, b = inside.size() - inside.size() / 5;
-  std::vector<double> mid(inside.begin() + static_cast<std::ptrdiff_t>(a), inside.begin() + static_cast<std::ptrdiff_t>(b));
-  std::nth_element(mid.begin(), mid.begin() + static_cast<std::ptrdiff_t>(mid.size() / 2), mid.end());
+  std::vector<double> mid(inside.begin() + static_cast<std::ptrdiff_t>(a),
+                          inside.begin() + static_cast<std::ptrdiff_t>(b));
+  std::nth_element(mid.begin(), mid.begin() + static_cast<std::ptrdiff_t>(mid.size() / 2),
+                   mid.end());
   return mid[mid.size() / 2];
 }
 
@@ -46,36 +48,43 @@ TEST(RodImpact, Case1CopperOnCopperMatchesWaterHammer) {
   for (std::size_t i = 0; i < s77.count; ++i) {
     const double x = s77.fields.at("position")[i];
     const double sxx = s77.fields.at("stress")[i];
-    if (s77.fields.at("body")[i] == 1 && sxx < 0.5 * sigmaC) lo = std::min(lo, x), hi = std::max(hi, x);
+    if (s77.fields.at("body")[i] == 1 && sxx < 0.5 * sigmaC)
+      lo = std::min(lo, x), hi = std::max(hi, x);
   }
-  std::printf("case 1 pulse length at %.2f us: %.2f mm (theory 20 mm)\n", s77.time * 1e6, (hi - lo) * 1e3);
+  std::printf("case 1 pulse length at %.2f us: %.2f mm (theory 20 mm)\n", s77.time * 1e6,
+              (hi - lo) * 1e3);
   EXPECT_NEAR((hi - lo) / 0.020, 1.0, 0.05);
 
   // Fig. 2 at 12.8 us: the striker is at rest, the rear 10 mm of the target moves at 20 m/s.
   const auto s = io::readSnapshot(lastSnapshot(dir));
   double strikerMomentum = 0, strikerMass = 0, rearMomentum = 0, rearMass = 0;
   for (std::size_t i = 0; i < s.count; ++i) {
-    const double x = s.fields.at("position")[i], v = s.fields.at("velocity")[i], m = s.fields.at("mass")[i];
+    const double x = s.fields.at("position")[i], v = s.fields.at("velocity")[i],
+                 m = s.fields.at("mass")[i];
     if (s.fields.at("body")[i] == 0) strikerMomentum += m * v, strikerMass += m;
     // The rear 10 mm, less the smeared edge of the reflected front (~1 mm).
-    else if (x > 0.031) rearMomentum += m * v, rearMass += m;
+    else if (x > 0.031)
+      rearMomentum += m * v, rearMass += m;
   }
   const double vStriker = strikerMomentum / strikerMass, vRear = rearMomentum / rearMass;
-  std::printf("case 1 at 12.8 us: striker %.3f m/s (theory 0), target rear %.3f m/s (theory 20)\n", vStriker, vRear);
+  std::printf("case 1 at 12.8 us: striker %.3f m/s (theory 0), target rear %.3f m/s (theory 20)\n",
+              vStriker, vRear);
   // 5% of the impact speed: the SPH tails of the fronts carry a few percent of the momentum.
   EXPECT_NEAR(vStriker, 0.0, 0.05 * v0);
   EXPECT_NEAR(vRear, v0, 0.05 * v0);
 
   // Conservation (no wall acts): mass exact, momentum to round-off, energy drift bounded.
   const auto h = readHistory(dir);
-  const double p0 = h.at("momentum_x").front(), m0 = h.at("mass").front(), e0 = h.at("total_energy").front();
+  const double p0 = h.at("momentum_x").front(), m0 = h.at("mass").front(),
+               e0 = h.at("total_energy").front();
   double dp = 0, de = 0;
   for (std::size_t k = 0; k < h.at("step").size(); ++k) {
     ASSERT_EQ(h.at("mass")[k], m0) << "mass changed at row " << k;
     dp = std::max(dp, std::abs(h.at("momentum_x")[k] - p0) / std::abs(p0));
     de = std::max(de, std::abs(h.at("total_energy")[k] - e0) / e0);
   }
-  std::printf("case 1 conservation: momentum %.2e, total energy %.2e (relative, worst row)\n", dp, de);
+  std::printf("case 1 conservation: momentum %.2e, total energy %.2e (relative, worst row)\n", dp,
+              de);
   // Pairwise antisymmetric forces: momentum changes only by round-off, ~1e-16 per step.
   EXPECT_LT(dp, 1e-12);
   // Kick-drift-kick is second order; the energy error of ~2700 steps stays well below 0.5%.
@@ -100,16 +109,18 @@ TEST(RodImpact, Case3ThickerPmmaPadLowersThePeakStress) {
     const std::string pad = std::to_string(-lp), sMin = std::to_string(-lp - 0.010);
     const std::string mid = std::to_string(-lp - 0.005);
     int rc = -1;
-    const auto dir = runSpall(deckPath("rod_impact_pmma_pad.toml"),
-                              {"body.pad.shape.min=[" + pad + "]", "body.striker.shape.min=[" + sMin + "]",
-                               "body.striker.shape.max=[" + pad + "]", "probe.striker_mid.position=[" + mid + "]",
-                               "output.every=1e-5"},
-                              "rod_case3_" + std::to_string(lp), &rc);
+    const auto dir =
+        runSpall(deckPath("rod_impact_pmma_pad.toml"),
+                 {"body.pad.shape.min=[" + pad + "]", "body.striker.shape.min=[" + sMin + "]",
+                  "body.striker.shape.max=[" + pad + "]",
+                  "probe.striker_mid.position=[" + mid + "]", "output.every=1e-5"},
+                 "rod_case3_" + std::to_string(lp), &rc);
     ASSERT_EQ(rc, 0);
     const auto probes = readProbes(dir);
     const auto& s = probes.at("striker_mid").at("stress_xx");
     peaks.push_back(-*std::min_element(s.value.begin(), s.value.end()));
-    std::printf("case 3, pad %.0f mm: peak striker stress %.1f MPa\n", lp * 1e3, peaks.back() / 1e6);
+    std::printf("case 3, pad %.0f mm: peak striker stress %.1f MPa\n", lp * 1e3,
+                peaks.back() / 1e6);
   }
   // Their Fig. 6: the peak falls fast while L_p <= L_s and hardly beyond. Measured: 161, 106,
   // 106 MPa. A drop of more than 10% from 5 to 10 mm, and within 10% from 10 to 20 mm.

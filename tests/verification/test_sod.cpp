@@ -18,7 +18,8 @@ SodError sodError(double resolution, const std::vector<std::string>& extra = {})
   std::vector<std::string> overrides{"run.resolution=" + std::to_string(resolution)};
   overrides.insert(overrides.end(), extra.begin(), extra.end());
   int rc = -1;
-  const auto dir = runSpall(deckPath("sod_1d.toml"), overrides, "sod_" + std::to_string(resolution), &rc);
+  const auto dir =
+      runSpall(deckPath("sod_1d.toml"), overrides, "sod_" + std::to_string(resolution), &rc);
   EXPECT_EQ(rc, 0);
   const auto s = io::readSnapshot(lastSnapshot(dir));
   EXPECT_NEAR(s.time, 0.2, 1e-12); // the run lands on its end time exactly

@@ -12,7 +12,8 @@ public:
   explicit RunLog(bool enabled);
   void banner(const std::vector<std::string>& lines);
   void warning(const std::string& text);
-  void progress(long long step, double time, double endTime, double dt, std::size_t particles, double wall);
+  void progress(long long step, double time, double endTime, double dt, std::size_t particles,
+                double wall);
   void summary(const std::vector<std::string>& lines);
 
 private:

@@ -156,7 +156,8 @@ public:
   }
   // Reorders the owned particles (e.g. along a space-filling curve); ghosts are dropped.
   void permuteLocal(std::span<const std::uint32_t> order) {
-    if (order.size() != local_) throw std::logic_error("permuteLocal: order must cover all owned particles");
+    if (order.size() != local_)
+      throw std::logic_error("permuteLocal: order must cover all owned particles");
     dropGhosts();
     for (auto& c : columns_) c->permutePrefix(order);
   }

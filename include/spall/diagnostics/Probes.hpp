@@ -13,7 +13,17 @@ namespace spall::diagnostics {
 
 // A probe field, resolved once from its name.
 struct ProbeField {
-  enum class Kind { Position, Velocity, Stress, Pressure, Density, Energy, SoundSpeed, Mass, SmoothingLength };
+  enum class Kind {
+    Position,
+    Velocity,
+    Stress,
+    Pressure,
+    Density,
+    Energy,
+    SoundSpeed,
+    Mass,
+    SmoothingLength
+  };
   Kind kind;
   int a = 0, b = 0; // components
   std::string name;
@@ -33,7 +43,8 @@ template <int Dim> class Probes {
 public:
   explicit Probes(const std::vector<ProbeConfig>& config);
   // Material probes pick their particle (global nearest, lowest id on ties).
-  void attach(const ParticleStore& s, const solvers::SphFields<Dim>& f, const parallel::MpiContext& mpi);
+  void attach(const ParticleStore& s, const solvers::SphFields<Dim>& f,
+              const parallel::MpiContext& mpi);
   // Values of every probe field now; identical on every rank.
   std::vector<ProbeSample> sample(const ParticleStore& s, const solvers::SphFields<Dim>& f,
                                   const parallel::MpiContext& mpi, double support);

@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <span>
 #include <string>
@@ -17,9 +18,13 @@ namespace spall::io {
 
 // `localCount` rows of info.scalarsPerParticle() scalars of type info.scalar, contiguous,
 // row-major (the per-particle shape is the trailing dimensions of the dataset).
+// A derived field (stress from pressure, H from h) may instead supply `fill`, which writes the
+// rows into a buffer the writer allocates for that field alone, so derived fields never need
+// storage of their own beyond the one being written.
 struct SnapshotField {
   FieldInfo info;
   const void* data = nullptr;
+  std::function<void(void* rows)> fill = {};
 };
 
 struct SnapshotAttributes {

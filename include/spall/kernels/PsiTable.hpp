@@ -12,7 +12,8 @@ class PsiTable {
 public:
   // `WH` is the kernel's W^H(eta); `dim` the lattice dimension.
   template <class KernelT, int Dim> static PsiTable build() {
-    return PsiTable(Dim, [](double eta) { return KernelT::WH(eta); }, KernelT::support);
+    return PsiTable(
+        Dim, [](double eta) { return KernelT::WH(eta); }, KernelT::support);
   }
 
   // Psi_0 of a cubic lattice with spacing 1/nh in eta space.

@@ -72,7 +72,8 @@ struct MieGruneisen {
     hugoniot(eta, pH, dpH);
     const double p = (1.0 - 0.5 * Gamma0 * eta) * pH + Gamma0 * rho * e;
     // cs^2 = (dp/drho)_e + (p / rho^2) (dp/de)_rho, with (dp/de)_rho = Gamma0 rho.
-    const double dpdrho_e = ((1.0 - 0.5 * Gamma0 * eta) * dpH - 0.5 * Gamma0 * pH) / rho0 + Gamma0 * e;
+    const double dpdrho_e =
+        ((1.0 - 0.5 * Gamma0 * eta) * dpH - 0.5 * Gamma0 * pH) / rho0 + Gamma0 * e;
     double cs2 = dpdrho_e + Gamma0 * p / rho;
     // Deep in tension the fit can give cs^2 <= 0; keep a floor so the CFL limit stays finite.
     cs2 = std::max(cs2, 1.0e-2 * C0 * C0);

@@ -28,9 +28,9 @@ struct NeighborList {
 
 template <int Dim> class CellGrid {
 public:
-  // Bins all `x` (owned and ghosts) into cells no smaller than `cellSize`; the grid is coarsened
-  // when the particles' extent would need more than ~2 cells per particle (a far-flung particle
-  // must not cost memory).
+  // Bins all `x` (owned and ghosts) into cells of about `cellSize`; the grid is coarsened when
+  // the particles' extent would need more than ~2 cells per particle (a far-flung particle must
+  // not cost memory).
   void build(std::span<const Vec<Dim>> x, double cellSize) {
     lo_ = Vec<Dim>::Constant(std::numeric_limits<double>::max());
     Vec<Dim> hi = Vec<Dim>::Constant(std::numeric_limits<double>::lowest());
@@ -50,6 +50,7 @@ public:
       if (total <= maxCells) break;
       size *= std::pow(total / maxCells, 1.0 / Dim) * 1.01;
     }
+    size_ = size;
     inv_ = 1.0 / size;
     std::int64_t cells = 1;
     for (int d = 0; d < Dim; ++d) cells *= n_[d];
@@ -62,8 +63,11 @@ public:
     for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
     members_.resize(x.size());
     std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
-    for (std::size_t i = 0; i < x.size(); ++i) members_[fill[cellOf_[i]]++] = static_cast<std::uint32_t>(i);
+    for (std::size_t i = 0; i < x.size(); ++i)
+      members_[fill[cellOf_[i]]++] = static_cast<std::uint32_t>(i);
   }
+
+  double cellSize() const { return size_; }
 
   std::uint32_t cellIndex(const Vec<Dim>& p) const {
     std::int64_t c = 0;
@@ -76,26 +80,26 @@ public:
   }
   std::span<const std::uint32_t> cellOf() const { return cellOf_; }
 
-  // Calls visit(j) for every particle in the 3^Dim cells around cell `c`.
-  template <class F> void forEachNear(std::uint32_t c, F&& visit) const {
+  // Calls visit(j) for every particle in the cells within `reach` cells of cell `c` along each
+  // axis (a (2 reach + 1)^Dim block).
+  template <class F> void forEachNear(std::uint32_t c, std::int64_t reach, F&& visit) const {
     std::int64_t k[3] = {0, 0, 0};
     std::int64_t rem = c;
     for (int d = 0; d < Dim; ++d) {
       k[d] = rem % n_[d];
       rem /= n_[d];
     }
-    const int r1 = Dim >= 2 ? 1 : 0, r2 = Dim >= 3 ? 1 : 0;
-    for (int dz = -r2; dz <= r2; ++dz) {
-      if (Dim >= 3 && (k[2] + dz < 0 || k[2] + dz >= n_[2])) continue;
-      for (int dy = -r1; dy <= r1; ++dy) {
-        if (Dim >= 2 && (k[1] + dy < 0 || k[1] + dy >= n_[1])) continue;
-        const std::int64_t x0 = std::max<std::int64_t>(k[0] - 1, 0);
-        const std::int64_t x1 = std::min<std::int64_t>(k[0] + 1, n_[0] - 1);
-        std::int64_t base = 0;
-        if constexpr (Dim == 3) base = ((k[2] + dz) * n_[1] + (k[1] + dy)) * n_[0];
-        else if constexpr (Dim == 2) base = (k[1] + dy) * n_[0];
+    const std::int64_t r1 = Dim >= 2 ? reach : 0, r2 = Dim >= 3 ? reach : 0;
+    const std::int64_t x0 = std::max<std::int64_t>(k[0] - reach, 0);
+    const std::int64_t x1 = std::min<std::int64_t>(k[0] + reach, n_[0] - 1);
+    for (std::int64_t z = std::max<std::int64_t>(k[2] - r2, 0);
+         z <= std::min<std::int64_t>(k[2] + r2, n_[2] - 1); ++z) {
+      for (std::int64_t y = std::max<std::int64_t>(k[1] - r1, 0);
+           y <= std::min<std::int64_t>(k[1] + r1, n_[1] - 1); ++y) {
+        const std::int64_t base = (z * n_[1] + y) * n_[0];
         // The cells x0..x1 of one row are contiguous in `members_`.
-        const std::uint32_t b = start_[base + x0], e = start_[base + x1 + 1];
+        const std::uint32_t b = start_[static_cast<std::size_t>(base + x0)];
+        const std::uint32_t e = start_[static_cast<std::size_t>(base + x1 + 1)];
         for (std::uint32_t m = b; m < e; ++m) visit(members_[m]);
       }
     }
@@ -103,35 +107,67 @@ public:
 
 private:
   Vec<Dim> lo_;
-  double inv_ = 1.0;
+  double size_ = 1.0, inv_ = 1.0;
   std::int64_t n_[3] = {1, 1, 1};
   std::vector<std::uint32_t> start_;
   std::vector<std::uint32_t> cellOf_;
   std::vector<std::uint32_t> members_;
 };
 
-// Builds the neighbor lists of the first `owned` particles of x (the rest are ghosts).
+// Builds the neighbor lists of the first `owned` particles of x (the rest are ghosts): every j
+// with r_ij < support * max(h_i, h_j). Each particle gathers within its own support on a grid
+// sized by the median h, so that a few particles with a large h (free surfaces, a blast's hot
+// core) do not coarsen the search for all; a pair that only the larger support reaches is
+// found from that side and added to the other's list.
 template <int Dim>
 void buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h, std::size_t owned,
                        double support, CellGrid<Dim>& grid, NeighborList& out) {
-  double hmax = 0.0;
-  for (double hi : h) hmax = std::max(hmax, hi);
-  grid.build(x, support * hmax);
-  out.offsets.resize(owned + 1);
+  const std::size_t n = x.size();
+  std::vector<double> hs(h.begin(), h.begin() + static_cast<std::ptrdiff_t>(n));
+  double hRef = 0.0;
+  if (!hs.empty()) {
+    std::nth_element(hs.begin(), hs.begin() + static_cast<std::ptrdiff_t>(hs.size() / 2), hs.end());
+    hRef = hs[hs.size() / 2];
+  }
+  // Cells of half the typical support: a (5 cells)^Dim block covers it with fewer candidates
+  // than (3 cells of a full support)^Dim.
+  grid.build(x, 0.5 * support * hRef);
+  const double cell = grid.cellSize();
+  out.offsets.assign(owned + 1, 0);
+  // Reuse last build's size: a doubling vector would hold up to twice the memory it needs.
+  const std::size_t expected = out.indices.size() + out.indices.size() / 16;
   out.indices.clear();
-  out.offsets[0] = 0;
+  if (out.indices.capacity() < expected) out.indices.reserve(expected);
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> extra; // (owned i, j reaching i)
   const auto cellOf = grid.cellOf();
-  for (std::size_t i = 0; i < owned; ++i) {
-    const Vec<Dim> xi = x[i];
-    const double hi = h[i];
-    grid.forEachNear(cellOf[i], [&](std::uint32_t j) {
-      if (j == i) return;
-      const double reach = support * std::max(hi, h[j]);
-      if ((xi - x[j]).squaredNorm() < reach * reach) out.indices.push_back(j);
+  for (std::size_t a = 0; a < n; ++a) {
+    const Vec<Dim> xa = x[a];
+    const double ra = support * h[a], ra2 = ra * ra;
+    const auto reach = static_cast<std::int64_t>(std::ceil(ra / cell));
+    const bool aOwned = a < owned;
+    grid.forEachNear(cellOf[a], reach, [&](std::uint32_t b) {
+      if (b == a) return;
+      const double r2 = (xa - x[b]).squaredNorm();
+      if (r2 >= ra2) return;
+      if (aOwned) out.indices.push_back(b);
+      const double rb = support * h[b];
+      if (b < owned && r2 >= rb * rb) extra.emplace_back(b, static_cast<std::uint32_t>(a));
     });
-    // Ascending index order fixes the summation order of every neighbor loop.
-    std::sort(out.indices.begin() + static_cast<std::ptrdiff_t>(out.offsets[i]), out.indices.end());
-    out.offsets[i + 1] = out.indices.size();
+    if (aOwned) out.offsets[a + 1] = out.indices.size();
+  }
+  if (extra.empty()) return;
+  // Merge the pairs found from the other side into the rows of their owned particle, in place:
+  // grow the index array once, then move rows back to front to their final place.
+  std::sort(extra.begin(), extra.end());
+  const std::size_t gathered = out.indices.size();
+  out.indices.resize(gathered + extra.size());
+  std::size_t e = extra.size();
+  std::size_t write = out.indices.size();
+  for (std::size_t i = owned; i-- > 0;) {
+    const std::uint64_t begin = out.offsets[i], end = out.offsets[i + 1];
+    out.offsets[i + 1] = write;
+    for (; e > 0 && extra[e - 1].first == i; --e) out.indices[--write] = extra[e - 1].second;
+    for (std::uint64_t k = end; k-- > begin;) out.indices[--write] = out.indices[k];
   }
 }
 

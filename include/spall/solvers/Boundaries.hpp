@@ -37,7 +37,7 @@ private:
   };
   std::vector<Wall> walls_;
   std::vector<Periodic> periodic_;
-  std::vector<Kind> order_; // deck order
+  std::vector<Kind> order_;           // deck order
   std::vector<std::uint32_t> source_; // ghost k = localCount + k images source_[k]
   SphFields<Dim> f_;
 };

@@ -15,11 +15,11 @@ template <int Dim> struct SphFields {
   Field<Vec<Dim>> a, aOld;
   Field<double> dedt, dedtOld, drhodt, drhodtOld;
   // Per-step sums of the neighbor loop.
-  Field<double> psi0;  // Owen (2010) Eq. 1, before the 1/nu root
-  Field<double> muMax; // largest viscous mu_ij, for the time step
-  Field<double> divv, curlv; // Balsara switch inputs (|curl v|)
+  Field<double> psi0;        // Owen (2010) Eq. 1, before the 1/nu root
+  Field<double> muMax;       // largest viscous mu_ij, for the time step
+  Field<double> divv, curlv; // Balsara switch inputs (|curl v|); registered only when used
 
-  void registerIn(ParticleStore& s) {
+  void registerIn(ParticleStore& s, bool balsara) {
     constexpr unsigned out = kOutput | kCheckpoint, ck = kCheckpoint, none = 0;
     id = s.add<ParticleId>("id", out);
     x = s.add<Vec<Dim>>("position", out);
@@ -40,8 +40,10 @@ template <int Dim> struct SphFields {
     drhodtOld = s.add<double>("density_rate_previous", none);
     psi0 = s.add<double>("psi0", none);
     muMax = s.add<double>("mu_max", none);
-    divv = s.add<double>("velocity_divergence", ck);
-    curlv = s.add<double>("velocity_curl", ck);
+    if (balsara) {
+      divv = s.add<double>("velocity_divergence", ck);
+      curlv = s.add<double>("velocity_curl", ck);
+    }
   }
 };
 

@@ -2,8 +2,8 @@
 #include "spall/kernels/Kernels.hpp"
 #include "spall/kernels/PsiTable.hpp"
 
-#include <gtest/gtest.h>
 #include <Eigen/Dense>
+#include <gtest/gtest.h>
 #include <numbers>
 
 using namespace spall::kernels;
@@ -18,7 +18,9 @@ template <class K, int Dim> double volumeIntegral() {
   double sum = 0.0;
   for (int k = 0; k <= n; ++k) {
     const double r = k * hstep;
-    const double shell = Dim == 1 ? 2.0 : Dim == 2 ? 2.0 * std::numbers::pi * r : 4.0 * std::numbers::pi * r * r;
+    const double shell = Dim == 1   ? 2.0
+                         : Dim == 2 ? 2.0 * std::numbers::pi * r
+                                    : 4.0 * std::numbers::pi * r * r;
     const double w = (k == 0 || k == n) ? 1.0 : (k % 2 ? 4.0 : 2.0);
     sum += w * shell * Kernel<K, Dim>::W(r, 1.0);
   }
@@ -57,7 +59,8 @@ template <class K, int Dim> void checkGradientConsistency(double nh) {
         if constexpr (Dim >= 3) x[2] = k;
         const double r = x.norm();
         if (r == 0.0 || r >= K::support * nh) continue;
-        const V gradW = Kernel<K, Dim>::dWdr(r, nh) * (-x) / r; // grad_i W(x_i - x_j), x = x_j - x_i
+        const V gradW =
+            Kernel<K, Dim>::dWdr(r, nh) * (-x) / r; // grad_i W(x_i - x_j), x = x_j - x_i
         sum += x * gradW.transpose();
       }
   const M err = sum - M::Identity();
@@ -91,7 +94,8 @@ TEST(Kernels, DerivativesMatchFiniteDifferences) {
 TEST(Kernels, LamEquation14In1D) {
   // Lam et al. (2001) Eq. 14: W = 2/(3h) (1 - 3/2 q^2 + 3/4 q^3) for q <= 1.
   const double h = 0.7, r = 0.35, q = r / h;
-  EXPECT_NEAR((Kernel<CubicSpline<1>, 1>::W(r, h)), 2.0 / (3.0 * h) * (1 - 1.5 * q * q + 0.75 * q * q * q), 1e-15);
+  EXPECT_NEAR((Kernel<CubicSpline<1>, 1>::W(r, h)),
+              2.0 / (3.0 * h) * (1 - 1.5 * q * q + 0.75 * q * q * q), 1e-15);
 }
 
 TEST(Kernels, GradientFirstOrderConsistencyOnALattice) {
