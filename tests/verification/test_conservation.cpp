@@ -85,8 +85,8 @@ every = 0.5
   ASSERT_EQ(rc, 0);
   // sum |m v| = total mass (1) * 0.5.
   const Drift d = drift(dir, 0.5);
-  std::printf("periodic shear 2D: mass %.1e, momentum %.2e, energy %.2e (relative)\n", d.mass, d.momentum,
-              d.energy);
+  std::printf("periodic shear 2D: mass %.1e, momentum %.2e, energy %.2e (relative)\n", d.mass,
+              d.momentum, d.energy);
   EXPECT_EQ(d.mass, 0.0);
   // Antisymmetric pair forces, also across the seams: round-off only (~1e-16 per step).
   EXPECT_LT(d.momentum, 1e-12);
@@ -106,13 +106,16 @@ TEST(Conservation, SedovBlast3D) {
   // two spacings) to t = 0.01: strong shock, large h contrast, free surfaces.
   int rc = -1;
   const auto dir = runSpall(deckPath("sedov_3d.toml"),
-                            {"run.resolution=0.3", "run.end_time=0.01", "output.every=0.01", "energy_source.1.radius=0.145"}, "sedov_small", &rc);
+                            {"run.resolution=0.3", "run.end_time=0.01", "output.every=0.01",
+                             "energy_source.1.radius=0.145"},
+                            "sedov_small", &rc);
   ASSERT_EQ(rc, 0);
   const auto h = readHistory(dir);
   // The blast's momentum scale: sum |m v| at the end, from the kinetic energy (|p| <= sqrt(2 M K)).
   const double scale = std::sqrt(2.0 * h.at("mass").back() * h.at("kinetic_energy").back());
   const Drift d = drift(dir, scale);
-  std::printf("Sedov 3D: mass %.1e, momentum %.2e, energy %.2e (relative)\n", d.mass, d.momentum, d.energy);
+  std::printf("Sedov 3D: mass %.1e, momentum %.2e, energy %.2e (relative)\n", d.mass, d.momentum,
+              d.energy);
   EXPECT_EQ(d.mass, 0.0);
   EXPECT_LT(d.momentum, 1e-12);
   // The first steps resolve the point deposition with few time steps; the integration error
