@@ -21,6 +21,15 @@ TIME_UNITS = {"s": 1.0, "ms": 1e3, "us": 1e6}
 STRESS_UNITS = {"Pa": 1.0, "kPa": 1e-3, "MPa": 1e-6, "GPa": 1e-9}
 
 
+def si_unit(field):
+    """The SI unit of the probe fields INTERFACE.md names; '' for fields a later model adds."""
+    if field.startswith("velocity_"):
+        return "m/s"
+    if field.startswith("position_"):
+        return "m"
+    return {"density": "kg/m^3", "specific_internal_energy": "J/kg"}.get(field, "")
+
+
 def is_stress(field):
     """Fields carrying Pa: stress components and pressure (scaled by --scale-stress)."""
     return field.startswith("stress") or field == "pressure"
@@ -84,7 +93,7 @@ def main():
     fig, axes = plt.subplots(len(fields), 1, figsize=(8, 2.6 + 2.2 * len(fields)), sharex=True,
                              squeeze=False)
     for ax, field in zip(axes[:, 0], fields):
-        unit = args.scale_stress if is_stress(field) else ""
+        unit = args.scale_stress if is_stress(field) else si_unit(field)
         for probe in probes:
             if (probe, field) in data:  # not every probe samples every field
                 t, v = data[probe, field]

@@ -2,9 +2,10 @@
 # ParaView: particles as points coloured by one field. Run it through tools/render_snapshot,
 # which supplies pvpython, offscreen rendering and a virtual display when there is none.
 import argparse
+import os
 import sys
 
-from paraview.simple import (GetColorTransferFunction, GetScalarBar, LoadPalette, Render,
+from paraview.simple import (Clip, GetColorTransferFunction, GetScalarBar, LoadPalette, Render,
                              SaveScreenshot, CreateView, Show, ColorBy, Text, XDMFReader)
 
 
@@ -19,14 +20,31 @@ def parse_args():
     p.add_argument("--component", default="Magnitude",
                    help="for vector/tensor fields: Magnitude (default) or a component index")
     p.add_argument("--size", default="1200x800", help="image size WxH in pixels")
-    p.add_argument("--point-size", type=float, default=3.0)
+    p.add_argument("--point-size", type=float, default=3.0,
+                   help="point size in pixels in 1D and 2D (3D draws spheres)")
+    p.add_argument("--clip", choices=["x", "y", "z", "none"], default="y",
+                   help="3D only: cut away the half of the particles on the camera's side of the "
+                        "plane through the centre normal to this axis, so that the inside shows "
+                        "(default y; 'none' shows the outside of the cloud)")
+    p.add_argument("--range", type=float, nargs=2, metavar=("MIN", "MAX"),
+                   help="colour range (default: the data range of the snapshot shown)")
     p.add_argument("--out", required=True, help="PNG file to write")
     return p.parse_args()
 
 
+def usage_error(message):
+    print("render_snapshot: " + message, file=sys.stderr)
+    sys.exit(2)
+
+
 def main():
     a = parse_args()
-    width, height = (int(v) for v in a.size.lower().split("x"))
+    try:
+        width, height = (int(v) for v in a.size.lower().split("x"))
+    except ValueError:
+        usage_error("--size must be WxH, e.g. 1200x800, not '%s'" % a.size)
+    if not os.path.isfile(a.xmf):
+        usage_error("no such file: %s" % a.xmf)
     # The XDMF 2 reader: the Xdmf3 readers cannot read the 1D X_Y_Z geometry spall writes.
     reader = XDMFReader(FileNames=[a.xmf])
     times = list(reader.TimestepValues) if reader.TimestepValues else [0.0]
@@ -40,23 +58,53 @@ def main():
 
     fields = reader.PointData.keys()
     if a.field not in fields:
-        sys.exit("render_snapshot: no field '%s' in %s (has: %s)" %
-                 (a.field, a.xmf, ", ".join(sorted(fields))))
+        usage_error("no field '%s' in %s (has: %s)" % (a.field, a.xmf, ", ".join(sorted(fields))))
     ncomp = reader.PointData[a.field].GetNumberOfComponents()
+
+    # Flat data (1D, 2D) is seen face on from +z; 3D from an oblique corner at (+x, -y, +z),
+    # through a cut: a cloud of points otherwise only shows its outside.
+    b = reader.GetDataInformation().GetBounds()
+    flat = b[5] - b[4] <= 0.0
+    centre = [(b[0] + b[1]) / 2, (b[2] + b[3]) / 2, (b[4] + b[5]) / 2]
+    source = reader
+    if not flat and a.clip != "none":
+        axis = "xyz".index(a.clip)
+        towards_camera = [1.0, -1.0, 1.0][axis]
+        normal = [towards_camera if k == axis else 0.0 for k in range(3)]
+        # A hair towards the camera, so that a layer of particles on the centre plane stays.
+        shift = 1e-6 * (b[2 * axis + 1] - b[2 * axis])
+        source = Clip(Input=reader)
+        source.ClipType = "Plane"
+        source.ClipType.Origin = [c + shift * n for c, n in zip(centre, normal)]
+        source.ClipType.Normal = normal
+        source.Invert = 1  # keep the far side of the plane
+        source.UpdatePipeline(t)
 
     LoadPalette("WhiteBackground")
     view = CreateView("RenderView")
     view.ViewSize = [width, height]
     view.ViewTime = t
     view.OrientationAxesVisibility = 1
-    disp = Show(reader, view)
-    disp.SetRepresentationType("Points")
-    disp.PointSize = a.point_size
+    disp = Show(source, view)
+    if flat:
+        disp.SetRepresentationType("Points")
+        disp.PointSize = a.point_size
+    else:
+        # Points of a few pixels leave the far particles showing through the near ones, so
+        # the cut face is unreadable: draw spheres of half the mean spacing instead.
+        n = max(reader.GetDataInformation().GetNumberOfPoints(), 1)
+        volume = max((b[1] - b[0]) * (b[3] - b[2]) * (b[5] - b[4]), 0.0)
+        disp.SetRepresentationType("Point Gaussian")
+        disp.ShaderPreset = "Sphere"
+        disp.GaussianRadius = 0.5 * (volume / n) ** (1.0 / 3.0)
     if ncomp == 1:
         ColorBy(disp, ("POINTS", a.field))
     else:
         ColorBy(disp, ("POINTS", a.field, a.component))
-    disp.RescaleTransferFunctionToDataRange(False, True)
+    if a.range:
+        GetColorTransferFunction(a.field).RescaleTransferFunction(a.range[0], a.range[1])
+    else:
+        disp.RescaleTransferFunctionToDataRange(False, True)
     disp.SetScalarBarVisibility(view, True)
     bar = GetScalarBar(GetColorTransferFunction(a.field), view)
     bar.Title = a.field
@@ -66,18 +114,19 @@ def main():
     label.WindowLocation = "Upper Left Corner"
     label.FontSize = 14
 
-    # Flat data (1D, 2D) is seen face on from +z; 3D from an oblique corner.
-    b = reader.GetDataInformation().GetBounds()
-    flat = b[5] - b[4] <= 0.0
-    centre = [(b[0] + b[1]) / 2, (b[2] + b[3]) / 2, (b[4] + b[5]) / 2]
     view.CameraFocalPoint = centre
     if flat:
         view.InteractionMode = "2D"
         view.CameraPosition = [centre[0], centre[1], centre[2] + 1.0]
         view.CameraViewUp = [0.0, 1.0, 0.0]
     else:
-        view.CameraPosition = [centre[0] + 1.0, centre[1] - 1.0, centre[2] + 0.8]
-        view.CameraViewUp = [0.0, 0.0, 1.0]
+        # Mostly face on to the cut (if any), a little from the (+x, -y, +z) corner.
+        direction = [1.0, -1.0, 0.8]
+        if a.clip != "none":
+            axis = "xyz".index(a.clip)
+            direction = [d if k == axis else 0.4 * d for k, d in enumerate(direction)]
+        view.CameraPosition = [c + d for c, d in zip(centre, direction)]
+        view.CameraViewUp = [0.0, 1.0, 0.0] if a.clip == "z" else [0.0, 0.0, 1.0]
     view.ResetCamera(False)
     Render(view)
     SaveScreenshot(a.out, view, ImageResolution=[width, height])

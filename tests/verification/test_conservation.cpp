@@ -2,6 +2,7 @@
 // to the time-integration error (INTERFACE.md history.csv totals).
 #include "RunDeck.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <gtest/gtest.h>
@@ -121,4 +122,9 @@ TEST(Conservation, SedovBlast3D) {
   // The first steps resolve the point deposition with few time steps; the integration error
   // there dominates (measured 2e-4). 2e-3 bounds it with room for round-off-level changes.
   EXPECT_LT(d.energy, 2e-3);
+  // Thermodynamic consistency: the cold gas next to the hot core only gains energy (shock
+  // heating), so no particle's specific internal energy may go below its initial 1e-5.
+  const auto s = io::readSnapshot(lastSnapshot(dir));
+  const auto& e = s.fields.at("specific_internal_energy");
+  EXPECT_GE(*std::min_element(e.begin(), e.end()), 0.99e-5);
 }
