@@ -3,6 +3,7 @@
 #include "spall/io/Snapshot.hpp"
 
 #include <cstdlib>
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -25,7 +26,9 @@ inline std::string deckPath(const std::string& name) {
 inline std::filesystem::path runSpall(const std::string& deck,
                                       const std::vector<std::string>& overrides,
                                       const std::string& tag, int* exitCode = nullptr) {
-  const auto dir = std::filesystem::temp_directory_path() / ("spall_verify_" + tag);
+  // The process id keeps concurrent test runs (two build trees, ctest -j) apart.
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("spall_verify_" + tag + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   std::string cmd =
       std::string(SPALL_BINARY) + " run " + deck + " --quiet --output " + dir.string();
