@@ -19,6 +19,7 @@
 #include <fmt/format.h>
 #include <fstream>
 #include <limits>
+#include <numbers>
 
 namespace spall::app {
 
