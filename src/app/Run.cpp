@@ -9,7 +9,8 @@
 #include "spall/io/Snapshot.hpp"
 #include "spall/io/Xdmf.hpp"
 #include "spall/neighbors/NeighborList.hpp"
-#include "spall/neighbors/SpatialOrder.hpp"
+#include "spall/parallel/Decomposition.hpp"
+#include "spall/parallel/HaloExchange.hpp"
 #include "spall/solvers/Boundaries.hpp"
 #include "spall/solvers/SphSolver.hpp"
 
@@ -72,7 +73,8 @@ const char* densityName(DensityMethod d) {
 
 // Wall time by phase, for the closing summary and tools/bench.
 struct Phases {
-  double neighbors = 0, density = 0, forces = 0, integration = 0, boundaries = 0, output = 0;
+  double neighbors = 0, density = 0, forces = 0, integration = 0, boundaries = 0, exchange = 0,
+         output = 0;
   template <class F> static void time(double& slot, F&& f) {
     const auto t0 = Clock::now();
     f();
@@ -97,24 +99,48 @@ public:
           "arrives with its own issue");
     baselineRss_ = residentBytes();
     f_.registerIn(store_, deck.solver.artificial_viscosity.balsara);
+    // Neighbors per particle from the last search: the load-balancing cost. Migrates, never
+    // written.
+    cost_ = store_.add<std::int32_t>("cost", 0);
+    // Every rank generates the same particles (ids, jitter and energy deposits therefore do not
+    // depend on the rank count), keeps a slice and hands the rest to their owners.
     bodies_ = generateBodies<Dim>(deck, eos_, store_, f_);
     applyEnergySources<Dim>(deck, store_, f_);
+    parallel::DecompositionConfig dc;
+    dc.curve =
+        deck.decomposition.curve == "morton" ? parallel::Curve::Morton : parallel::Curve::Hilbert;
+    dc.metis = deck.decomposition.partitioner == "metis";
+    dc.rebalanceEvery = deck.decomposition.rebalance_every;
+    dc.imbalanceThreshold = deck.decomposition.imbalance_threshold;
+    decomposition_ =
+        std::make_unique<parallel::Decomposition<Dim>>(mpi.comm(), dc, f_.id, f_.x, cost_);
+    decomposition_->distributeInitial(store_);
+    totalParticles_ = mpi.sum(static_cast<std::uint64_t>(store_.localCount()));
     solver_ = solvers::makeSolver<Dim>({deck.solver, eos_}, store_, f_);
     boundaries_ = std::make_unique<solvers::Boundaries<Dim>>(deck.boundaries, f_);
+    halo_ = std::make_unique<parallel::HaloExchange<Dim>>(mpi.comm(), boundaries_->periodicAxes());
+    // What the neighbor search, the density sum and the force loop read of a ghost; after the
+    // summation density only rho and the EOS's p and cs change.
+    for (std::size_t c : {f_.id.index, f_.x.index, f_.v.index, f_.m.index, f_.h.index,
+                          f_.rho.index, f_.p.index, f_.cs.index, f_.material.index})
+      haloFields_.push_back(c);
+    if (f_.divv.valid()) haloFields_.push_back(f_.divv.index), haloFields_.push_back(f_.curlv.index);
+    refreshFields_ = {f_.rho.index, f_.p.index, f_.cs.index};
     probes_ = std::make_unique<diagnostics::Probes<Dim>>(deck.probes);
     resolveOutputFields();
     solver_->equationOfState();
   }
 
-  std::size_t particles() const { return store_.localCount(); }
+  // All ranks' owned particles.
+  std::size_t particles() const { return totalParticles_; }
   const std::vector<BodySummary>& bodies() const { return bodies_; }
   const std::vector<std::string>& warnings() const { return deferredWarnings_; }
 
   // A rough peak estimate: stored fields, ghosts (~10%) and neighbor indices at the target n_h.
   std::size_t memoryEstimate() const {
     const double neighbors =
-        std::pow(2.0 * 2.0 * deck_.solver.nodes_per_h, Dim) * (Dim == 3   ? 3.14159 / 6.0
-                                                               : Dim == 2 ? 3.14159 / 4.0
+        std::pow(2.0 * 2.0 * deck_.solver.nodes_per_h, Dim) * (Dim == 3   ? std::numbers::pi / 6.0
+                                                               : Dim == 2 ? std::numbers::pi / 4.0
                                                                           : 1.0);
     const double perParticle =
         1.1 * static_cast<double>(store_.bytesPerParticle()) + 4.0 * neighbors + 16.0;
@@ -134,6 +160,7 @@ public:
 
   void run(const RunOptions& options, const fs::path& dir) {
     RunLog log(mpi_.root() && !options.quiet);
+    log_ = &log;
     const auto wall0 = Clock::now();
     for (const auto& w : deferredWarnings_) log.warning(w);
     banner(log, dir);
@@ -142,7 +169,8 @@ public:
       std::ofstream(dir / "deck.toml") << deck_.resolved_toml;
       history_ = io::CsvLog((dir / "history.csv").string(),
                             "step,time,dt,particles,mass,momentum_x,momentum_y,momentum_z,"
-                            "kinetic_energy,internal_energy,total_energy,wall_seconds");
+                            "kinetic_energy,internal_energy,total_energy,wall_seconds,"
+                            "imbalance,ghosts,migrated");
       if (!probes_->empty())
         probesCsv_ = io::CsvLog((dir / "probes.csv").string(), "time,probe,field,value");
     }
@@ -165,7 +193,8 @@ public:
       if (snapshotDue()) writeSnapshot();
       const double wall = std::chrono::duration<double>(Clock::now() - wall0).count();
       if (wall - lastProgress > 0.0) {
-        log.progress(step_, time_, end, dt, particles(), wall);
+        log.progress(step_, time_, end, dt, particles(), wall,
+                     mpi_.size() > 1 ? fmt::format("  imbalance {:.2f}", imbalance_) : "");
         lastProgress = wall;
       }
       dt = nextTimeStep();
@@ -174,28 +203,48 @@ public:
     history_.flush();
     probesCsv_.flush();
     finish(log, options, wall0);
+    log_ = nullptr;
   }
 
 private:
   // ---- one force evaluation: ghosts, neighbors, density, rates -------------------------------
   void evaluate() {
+    if (!solver_->usesSummationDensity()) solver_->equationOfState();
+    Phases::time(phases_.exchange, [&] {
+      const std::size_t n = store_.localCount();
+      const auto h = store_[f_.h];
+      reach_.resize(n);
+      for (std::size_t i = 0; i < n; ++i) reach_[i] = solver_->support() * h[i];
+      halo_->build(store_, f_.x, reach_, haloFields_);
+    });
     Phases::time(phases_.boundaries, [&] {
-      if (!solver_->usesSummationDensity()) solver_->equationOfState();
       double hmax = 0.0;
-      for (double h : store_[f_.h].first(store_.localCount())) hmax = std::max(hmax, h);
+      for (double h : store_[f_.h]) hmax = std::max(hmax, h); // owned and remote ghosts
       boundaries_->buildGhosts(store_, solver_->support() * mpi_.max(hmax));
     });
     Phases::time(phases_.neighbors, [&] {
       neighbors::buildNeighborList<Dim>(store_[f_.x], store_[f_.h], store_.localCount(),
                                         solver_->support(), grid_, neighbors_);
+      if (deck_.decomposition.reproducible)
+        neighbors::sortRowsCanonically<Dim>(store_[f_.id], store_[f_.x], neighbors_);
+      const auto cost = store_[cost_];
+      for (std::size_t i = 0; i < store_.localCount(); ++i)
+        cost[i] = static_cast<std::int32_t>(1 + neighbors_.offsets[i + 1] - neighbors_.offsets[i]);
     });
     pairCount_ += neighbors_.pairs();
+    ghostCount_ = halo_->ghosts();
+    ghostFractionMax_ =
+        std::max(ghostFractionMax_, mpi_.size() == 1 || store_.localCount() == 0
+                                        ? 0.0
+                                        : static_cast<double>(halo_->ghosts()) /
+                                              static_cast<double>(store_.localCount()));
     if (solver_->usesSummationDensity()) {
       Phases::time(phases_.density, [&] {
         solver_->computeDensity(neighbors_);
         solver_->equationOfState();
-        boundaries_->refreshGhosts(store_);
       });
+      Phases::time(phases_.exchange, [&] { halo_->refresh(store_, refreshFields_); });
+      Phases::time(phases_.boundaries, [&] { boundaries_->refreshGhosts(store_); });
     }
     Phases::time(phases_.forces, [&] { solver_->computeRates(neighbors_); });
   }
@@ -227,7 +276,12 @@ private:
       store_.swapValues(f_.dedt, f_.dedtOld);
       store_.swapValues(f_.drhodt, f_.drhodtOld);
       boundaries_->wrapPeriodic(store_);
-      if (step_ % 20 == 0) reorder();
+    });
+    Phases::time(phases_.exchange, [&] {
+      const auto m = decomposition_->migrate(store_, step_);
+      migrated_ = m.moved;
+      migratedTotal_ += m.moved;
+      maxRankDistance_ = std::max(maxRankDistance_, m.maxRankDistance);
     });
     evaluate();
     Phases::time(phases_.integration, [&] {
@@ -251,12 +305,24 @@ private:
     time_ += dt;
     ++step_;
     checkFinite();
+    if (mpi_.size() > 1) Phases::time(phases_.exchange, [&] { balance(); });
   }
 
-  // Keeps owned particles in Morton order so neighbors stay close in memory.
-  void reorder() {
-    const auto order = neighbors::mortonOrder<Dim>(store_[f_.x].first(store_.localCount()));
-    store_.permuteLocal(order);
+  // Measures the imbalance of the neighbor cost and re-cuts the key axis when due (the rows of
+  // the last neighbor search still match the store here, which the METIS graph needs).
+  void balance() {
+    imbalance_ = decomposition_->imbalance(store_);
+    if (!decomposition_->rebalanceDue(step_, imbalance_)) return;
+    const auto r = decomposition_->rebalance(store_, neighbors_.offsets, neighbors_.indices);
+    ++rebalances_;
+    imbalance_ = r.imbalanceAfter;
+    if (r.metisEdgeCut >= 0) metisEdgeCut_ = r.metisEdgeCut;
+    // Scheduled rebalances are routine; one forced by the threshold is worth a line.
+    if (log_ && r.imbalanceBefore > deck_.decomposition.imbalance_threshold)
+      log_->note(fmt::format(
+          "rebalance at step {}: cost max/mean {:.3f} -> {:.3f}, {} particles moved{}", step_,
+          r.imbalanceBefore, r.imbalanceAfter, r.moved,
+          r.metisEdgeCut >= 0 ? fmt::format(", METIS edge cut {} pairs", r.metisEdgeCut) : ""));
   }
 
   double nextTimeStep() {
@@ -413,12 +479,14 @@ private:
       const auto t = diagnostics::computeTotals(store_, f_, mpi_);
       last_ = t;
       const std::uint64_t n = mpi_.sum(static_cast<std::uint64_t>(store_.localCount()));
+      const std::uint64_t ghosts = mpi_.sum(static_cast<std::uint64_t>(ghostCount_));
       const double wall = std::chrono::duration<double>(Clock::now() - wall0).count();
       if (history_.open())
-        history_.row(fmt::format(
-            "{},{:.17g},{:.17g},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.3f}",
-            step, time_, dt, n, t.mass, t.momentum[0], t.momentum[1], t.momentum[2], t.kinetic,
-            t.internal, t.total(), wall));
+        history_.row(fmt::format("{},{:.17g},{:.17g},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:."
+                                 "17g},{:.17g},{:.3f},{:.4f},{},{}",
+                                 step, time_, dt, n, t.mass, t.momentum[0], t.momentum[1],
+                                 t.momentum[2], t.kinetic, t.internal, t.total(), wall, imbalance_,
+                                 ghosts, migrated_));
       if (!probes_->empty()) {
         const auto samples = probes_->sample(store_, f_, mpi_, solver_->support());
         if (probesCsv_.open())
@@ -465,25 +533,38 @@ private:
     const std::size_t peak =
         static_cast<std::size_t>(mpi_.sum(static_cast<double>(peakResidentBytes())));
     const std::size_t base = static_cast<std::size_t>(mpi_.sum(static_cast<double>(baselineRss_)));
+    const double pairs = mpi_.sum(static_cast<double>(pairCount_));
+    const double ghostFraction = mpi_.max(ghostFractionMax_);
     const double meanNeighbors = step_ + 1 > 0
-                                     ? static_cast<double>(pairCount_) /
+                                     ? pairs /
                                            (static_cast<double>(step_ + 1) *
                                             std::max<double>(1.0, static_cast<double>(particles())))
                                      : 0.0;
     const double phaseSum = phases_.neighbors + phases_.density + phases_.forces +
-                            phases_.integration + phases_.boundaries + phases_.output;
-    log.summary(
-        {fmt::format("done: {} steps to t = {:.6g} s in {:.2f} s wall | {:.3g} particle-steps/s "
-                     "({:.3g} per core)",
-                     step_, time_, wall, rate, rate / mpi_.size()),
-         fmt::format("conservation: mass {:.1e} | momentum {:.1e} | total energy {:.1e} (relative)",
-                     massErr, momErr, energyErr),
-         fmt::format("time: neighbors {:.1f}% density {:.1f}% forces {:.1f}% integration {:.1f}% "
-                     "boundaries {:.1f}% output {:.1f}%",
-                     100 * phases_.neighbors / wall, 100 * phases_.density / wall,
-                     100 * phases_.forces / wall, 100 * phases_.integration / wall,
-                     100 * phases_.boundaries / wall, 100 * phases_.output / wall),
-         fmt::format("output in {} (open snapshots/series.xmf in ParaView)", dir_.string())});
+                            phases_.integration + phases_.boundaries + phases_.exchange +
+                            phases_.output;
+    std::vector<std::string> lines = {
+        fmt::format("done: {} steps to t = {:.6g} s in {:.2f} s wall | {:.3g} particle-steps/s "
+                    "({:.3g} per core)",
+                    step_, time_, wall, rate, rate / mpi_.size()),
+        fmt::format("conservation: mass {:.1e} | momentum {:.1e} | total energy {:.1e} (relative)",
+                    massErr, momErr, energyErr),
+        fmt::format("time: neighbors {:.1f}% density {:.1f}% forces {:.1f}% integration {:.1f}% "
+                    "boundaries {:.1f}% exchange {:.1f}% output {:.1f}%",
+                    100 * phases_.neighbors / wall, 100 * phases_.density / wall,
+                    100 * phases_.forces / wall, 100 * phases_.integration / wall,
+                    100 * phases_.boundaries / wall, 100 * phases_.exchange / wall,
+                    100 * phases_.output / wall)};
+    if (mpi_.size() > 1)
+      lines.push_back(fmt::format(
+          "decomposition: {} {} on {} ranks | {} rebalances, cost max/mean {:.3f} | ghosts up to "
+          "{:.1f}% of a rank's particles | {} migrations, up to {} ranks in one step{}",
+          deck_.decomposition.curve, deck_.decomposition.partitioner, mpi_.size(), rebalances_,
+          imbalance_, 100.0 * ghostFraction, migratedTotal_, maxRankDistance_,
+          metisEdgeCut_ >= 0 ? fmt::format(" | METIS edge cut {} pairs", metisEdgeCut_) : ""));
+    lines.push_back(
+        fmt::format("output in {} (open snapshots/series.xmf in ParaView)", dir_.string()));
+    log.summary(lines);
     if (!mpi_.root()) return;
     std::ofstream js(dir_ / "summary.json");
     js << fmt::format(
@@ -496,7 +577,10 @@ private:
         "  \"bytes_per_particle\": {:.1f},\n"
         "  \"phases\": {{\"neighbors\": {:.6f}, \"density\": {:.6f}, \"forces\": {:.6f}, "
         "\"integration\": {:.6f}, "
-        "\"boundaries\": {:.6f}, \"output\": {:.6f}, \"other\": {:.6f}}},\n"
+        "\"boundaries\": {:.6f}, \"exchange\": {:.6f}, \"output\": {:.6f}, \"other\": {:.6f}}},\n"
+        "  \"decomposition\": {{\"curve\": \"{}\", \"partitioner\": \"{}\", \"rebalances\": {}, "
+        "\"imbalance\": {:.6f}, \"ghost_fraction_max\": {:.6f}, \"migrated\": {}, "
+        "\"max_rank_distance\": {}, \"metis_edge_cut\": {}}},\n"
         "  \"conservation\": {{\"mass_relative\": {:.6e}, \"momentum_relative\": {:.6e}, "
         "\"energy_relative\": {:.6e}}}\n}}\n",
         jsonEscape(options.deckPath), jsonEscape(deck_.run.title), mpi_.size(), Dim, particles(),
@@ -505,7 +589,9 @@ private:
             ? static_cast<double>(peak - std::min(peak, base)) / static_cast<double>(particles())
             : 0.0,
         phases_.neighbors, phases_.density, phases_.forces, phases_.integration, phases_.boundaries,
-        phases_.output, std::max(0.0, wall - phaseSum), massErr, momErr, energyErr);
+        phases_.exchange, phases_.output, std::max(0.0, wall - phaseSum), deck_.decomposition.curve,
+        deck_.decomposition.partitioner, rebalances_, imbalance_, ghostFraction, migratedTotal_,
+        maxRankDistance_, metisEdgeCut_, massErr, momErr, energyErr);
   }
 
   static std::string jsonEscape(const std::string& s) {
@@ -526,6 +612,17 @@ private:
   std::unique_ptr<solvers::Solver<Dim>> solver_;
   std::unique_ptr<solvers::Boundaries<Dim>> boundaries_;
   std::unique_ptr<diagnostics::Probes<Dim>> probes_;
+  Field<std::int32_t> cost_;
+  std::unique_ptr<parallel::Decomposition<Dim>> decomposition_;
+  std::unique_ptr<parallel::HaloExchange<Dim>> halo_;
+  std::vector<double> reach_;
+  std::vector<std::size_t> haloFields_, refreshFields_;
+  std::size_t totalParticles_ = 0, ghostCount_ = 0;
+  std::uint64_t migrated_ = 0, migratedTotal_ = 0;
+  int maxRankDistance_ = 0, rebalances_ = 0;
+  double imbalance_ = 1.0, ghostFractionMax_ = 0.0;
+  std::int64_t metisEdgeCut_ = -1;
+  RunLog* log_ = nullptr;
   neighbors::CellGrid<Dim> grid_;
   neighbors::NeighborList neighbors_;
   std::vector<std::string> outputFields_;
@@ -608,10 +705,6 @@ template <int Dim> void checkDim(const Deck& deck, const parallel::MpiContext& m
 void runDeck(const Deck& deck, const RunOptions& options, const parallel::MpiContext& mpi) {
   if (options.restart)
     throw UsageError("--restart arrives with checkpoint/restart chains and is not available yet");
-  if (mpi.size() > 1)
-    throw UsageError(
-        "this build runs on 1 MPI rank; the domain decomposition that spreads a run over "
-        "several ranks is not available yet");
   switch (deck.run.dimension) {
   case 1:
     return runDim<1>(deck, options, mpi);

@@ -28,7 +28,7 @@ void RunLog::warning(const std::string& text) {
 }
 
 void RunLog::progress(long long step, double time, double endTime, double dt, std::size_t particles,
-                      double wall) {
+                      double wall, const std::string& extra) {
   if (!enabled_) return;
   // Terminal: redraw at most 5 times a second. Batch log: a line every 10 s.
   const double every = tty_ ? 0.2 : 10.0;
@@ -38,13 +38,21 @@ void RunLog::progress(long long step, double time, double endTime, double dt, st
   const double eta = fraction > 0.0 ? wall * (1.0 - fraction) / fraction : -1.0;
   const std::string line =
       fmt::format("step {:>8}  t {:.4e} s ({:5.1f}%)  dt {:.3e}  N {}  wall {}  ETA {}", step, time,
-                  100.0 * fraction, dt, particles, duration(wall), duration(eta));
+                  100.0 * fraction, dt, particles, duration(wall), duration(eta)) +
+      extra;
   if (tty_) {
     fmt::print("\r{}\033[K", line);
     lineOpen_ = true;
   } else {
     fmt::print("{}\n", line);
   }
+  std::fflush(stdout);
+}
+
+void RunLog::note(const std::string& text) {
+  if (!enabled_) return;
+  if (lineOpen_) fmt::print("\n"), lineOpen_ = false;
+  fmt::print("{}\n", text);
   std::fflush(stdout);
 }
 

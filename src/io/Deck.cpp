@@ -234,6 +234,10 @@ void DeckReader::readDecomposition(const TableReader& r, DecompositionConfig& d)
   d.partitioner = r.choice("partitioner", {"sfc", "metis"}, d.partitioner);
   if (const auto v = r.integer("rebalance_every"))
     d.rebalance_every = toInt(r, "rebalance_every", *v, 0);
+  d.imbalance_threshold = r.number("imbalance_threshold").value_or(d.imbalance_threshold);
+  r.check(d.imbalance_threshold >= 1.0, "imbalance_threshold", ">= 1 (a max/mean cost ratio)",
+          d.imbalance_threshold);
+  d.reproducible = r.boolean("reproducible").value_or(d.reproducible);
 }
 
 void DeckReader::readMaterial(const TableReader& r, MaterialConfig& m) const {

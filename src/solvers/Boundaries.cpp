@@ -15,10 +15,8 @@ Boundaries<Dim>::Boundaries(const std::vector<BoundaryConfig>& config, const Sph
         w.normal[d] = b.normal[d];
       }
       w.normal.normalize();
-      order_.push_back({true, walls_.size()});
       walls_.push_back(w);
     } else {
-      order_.push_back({false, periodic_.size()});
       periodic_.push_back({b.axis, b.min, b.max});
     }
   }
@@ -36,44 +34,34 @@ template <int Dim> void Boundaries<Dim>::wrapPeriodic(ParticleStore& s) const {
 }
 
 template <int Dim> void Boundaries<Dim>::buildGhosts(ParticleStore& s, double reach) {
-  s.dropGhosts();
   source_.clear();
-  for (const Kind& k : order_) {
-    const std::size_t count = s.size(); // owned + ghosts of earlier boundaries
-    if (k.wall) {
-      const Wall& w = walls_[k.index];
-      for (std::size_t i = 0; i < count; ++i) {
-        const double d = (s[f_.x][i] - w.point).dot(w.normal);
-        if (d < 0.0 || d >= reach) continue;
-        const std::size_t g = s.appendGhostCopy(i);
-        auto x = s[f_.x];
-        auto v = s[f_.v];
-        x[g] -= 2.0 * d * w.normal;
-        v[g] -= 2.0 * v[g].dot(w.normal) * w.normal;
-        source_.push_back(static_cast<std::uint32_t>(i));
-      }
-    } else {
-      const Periodic& pb = periodic_[k.index];
-      const double L = pb.max - pb.min;
-      for (std::size_t i = 0; i < count; ++i) {
-        const double xi = s[f_.x][i][pb.axis];
-        for (double shift : {L, -L}) {
-          const bool near = shift > 0.0 ? xi - pb.min < reach : pb.max - xi <= reach;
-          if (!near) continue;
-          const std::size_t g = s.appendGhostCopy(i);
-          s[f_.x][g][pb.axis] += shift;
-          source_.push_back(static_cast<std::uint32_t>(i));
-        }
-      }
+  first_ = s.size();
+  for (const Wall& w : walls_) {
+    const std::size_t count = s.size(); // owned, remote ghosts and images of earlier walls
+    for (std::size_t i = 0; i < count; ++i) {
+      const double d = (s[f_.x][i] - w.point).dot(w.normal);
+      if (d < 0.0 || d >= reach) continue;
+      const std::size_t g = s.appendGhostCopy(i);
+      auto x = s[f_.x];
+      auto v = s[f_.v];
+      x[g] -= 2.0 * d * w.normal;
+      v[g] -= 2.0 * v[g].dot(w.normal) * w.normal;
+      source_.push_back(static_cast<std::uint32_t>(i));
     }
   }
+}
+
+template <int Dim> std::vector<parallel::PeriodicAxis> Boundaries<Dim>::periodicAxes() const {
+  std::vector<parallel::PeriodicAxis> out;
+  for (const auto& p : periodic_) out.push_back({p.axis, p.min, p.max});
+  return out;
 }
 
 template <int Dim> void Boundaries<Dim>::refreshGhosts(ParticleStore& s) const {
   const auto rho = s[f_.rho];
   const auto p = s[f_.p];
   const auto cs = s[f_.cs];
-  const std::size_t first = s.localCount();
+  const std::size_t first = first_;
   // In creation order, so an image of an image sees its source already refreshed.
   for (std::size_t k = 0; k < source_.size(); ++k) {
     const std::size_t g = first + k, i = source_[k];

@@ -13,7 +13,9 @@ public:
   void banner(const std::vector<std::string>& lines);
   void warning(const std::string& text);
   void progress(long long step, double time, double endTime, double dt, std::size_t particles,
-                double wall);
+                double wall, const std::string& extra = {});
+  // A line of its own between progress lines (e.g. a rebalance).
+  void note(const std::string& text);
   void summary(const std::vector<std::string>& lines);
 
 private:

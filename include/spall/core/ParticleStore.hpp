@@ -8,6 +8,7 @@
 #include "spall/core/Types.hpp"
 
 #include <cstddef>
+#include <cstring>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -65,6 +66,12 @@ public:
   virtual void copy(std::size_t from, std::size_t to) = 0;
   // After the call, element i holds what element order[i] held, for i < order.size().
   virtual void permutePrefix(std::span<const std::uint32_t> order) = 0;
+  // Copies rows `rows` into `out` (bytesPerParticle() each, in that order) / rows
+  // [first, first + count) from `in`: the generic path by which any field migrates, is copied to
+  // remote ghosts and is checkpointed.
+  virtual void pack(std::span<const std::uint32_t> rows, std::byte* out) const = 0;
+  virtual void unpack(const std::byte* in, std::size_t first, std::size_t count) = 0;
+  virtual void shrink(std::size_t n) = 0;
   virtual std::size_t bytesPerParticle() const = 0;
   virtual std::size_t capacityBytes() const = 0;
   virtual void* raw() = 0;
@@ -84,6 +91,17 @@ public:
     std::vector<T> tmp(order.size());
     for (std::size_t i = 0; i < order.size(); ++i) tmp[i] = values[order[i]];
     std::copy(tmp.begin(), tmp.end(), values.begin());
+  }
+  void pack(std::span<const std::uint32_t> rows, std::byte* out) const override {
+    for (std::size_t k = 0; k < rows.size(); ++k)
+      std::memcpy(out + k * sizeof(T), static_cast<const void*>(&values[rows[k]]), sizeof(T));
+  }
+  void unpack(const std::byte* in, std::size_t first, std::size_t count) override {
+    if (count > 0) std::memcpy(static_cast<void*>(&values[first]), in, count * sizeof(T));
+  }
+  void shrink(std::size_t n) override {
+    values.resize(n);
+    values.shrink_to_fit();
   }
   std::size_t bytesPerParticle() const override { return sizeof(T); }
   std::size_t capacityBytes() const override { return values.capacity() * sizeof(T); }
@@ -160,6 +178,34 @@ public:
       throw std::logic_error("permuteLocal: order must cover all owned particles");
     dropGhosts();
     for (auto& c : columns_) c->permutePrefix(order);
+  }
+
+  // Keeps the owned rows `rows`, in that order, as the new owned set (migration, start-up slice).
+  void keepLocal(std::span<const std::uint32_t> rows) {
+    dropGhosts();
+    for (auto& c : columns_) c->permutePrefix(rows);
+    local_ = rows.size();
+    resizeAll(local_);
+  }
+  // Appends `count` owned rows (their values to be unpacked by the caller); drops ghosts.
+  std::size_t appendLocal(std::size_t count) {
+    dropGhosts();
+    const std::size_t first = local_;
+    growTo(local_ + count);
+    local_ += count;
+    return first;
+  }
+  // Appends `count` ghost rows (values to be unpacked by the caller); returns the first.
+  std::size_t appendGhosts(std::size_t count) {
+    const std::size_t first = size_;
+    growTo(size_ + count);
+    return first;
+  }
+  // Releases rows beyond the current size plus some headroom for ghosts (after the start-up
+  // distribution every rank briefly held all particles).
+  void shrinkToFit(double headroom = 0.25) {
+    capacity_ = size_ + static_cast<std::size_t>(headroom * static_cast<double>(size_));
+    for (auto& c : columns_) c->shrink(capacity_);
   }
 
   const std::vector<std::unique_ptr<ColumnBase>>& columns() const { return columns_; }

@@ -61,6 +61,8 @@ struct DecompositionConfig {
   std::string curve = "hilbert";   // "hilbert" | "morton"
   std::string partitioner = "sfc"; // "sfc" | "metis"
   int rebalance_every = 20;
+  double imbalance_threshold = 1.1; // max/mean cost that triggers a rebalance at any step
+  bool reproducible = true;         // neighbor sums in a rank-count-independent order
 };
 
 struct EosConfig {

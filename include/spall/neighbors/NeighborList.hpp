@@ -171,4 +171,34 @@ void buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h, s
   }
 }
 
+// Sorts every row by a rank-count-independent order of the particles (ids, and positions to
+// tell a particle's periodic and mirror images apart), so that the neighbor sums are added in
+// the same order whatever the decomposition: the run is then bit-for-bit identical on any
+// number of ranks. Costs a sort per row (see decks/README.md, decomposition.reproducible).
+template <int Dim>
+void sortRowsCanonically(std::span<const ParticleId> id, std::span<const Vec<Dim>> x,
+                         NeighborList& nl) {
+  const std::size_t n = id.size();
+  std::vector<std::uint32_t> byKey(n);
+  for (std::size_t i = 0; i < n; ++i) byKey[i] = static_cast<std::uint32_t>(i);
+  std::sort(byKey.begin(), byKey.end(), [&](std::uint32_t a, std::uint32_t b) {
+    if (id[a] != id[b]) return id[a] < id[b];
+    for (int d = 0; d < Dim; ++d)
+      if (x[a][d] != x[b][d]) return x[a][d] < x[b][d];
+    return false; // the same particle image twice: identical values, any order will do
+  });
+  std::vector<std::uint32_t> rank(n);
+  for (std::size_t k = 0; k < n; ++k) rank[byKey[k]] = static_cast<std::uint32_t>(k);
+  std::vector<std::uint64_t> row;
+  const std::size_t rows = nl.offsets.empty() ? 0 : nl.offsets.size() - 1;
+  for (std::size_t i = 0; i < rows; ++i) {
+    const std::uint64_t b = nl.offsets[i], e = nl.offsets[i + 1];
+    row.resize(e - b);
+    for (std::uint64_t k = b; k < e; ++k)
+      row[k - b] = (std::uint64_t{rank[nl.indices[k]]} << 32) | nl.indices[k];
+    std::sort(row.begin(), row.end());
+    for (std::uint64_t k = b; k < e; ++k) nl.indices[k] = static_cast<std::uint32_t>(row[k - b]);
+  }
+}
+
 } // namespace spall::neighbors

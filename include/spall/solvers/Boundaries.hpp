@@ -1,9 +1,12 @@
 #pragma once
-// Boundary conditions as ghost particles appended after the owned ones: mirror images across
-// rigid walls (Lam et al. 2001, Sec. 4.1: "converts the impact on a rigid wall into a symmetric
-// impact") and periodic images. Boundaries are applied in deck order and each one also images
-// the ghosts of the ones before it, so corners of walls and periodic axes are covered.
+// Boundary conditions: mirror ghosts across rigid walls (Lam et al. 2001, Sec. 4.1: "converts
+// the impact on a rigid wall into a symmetric impact"), appended after the owned particles and
+// the remote/periodic ghosts of the halo exchange, and the wrapping of periodic axes (whose
+// images the halo exchange makes, on one rank as on many). Each wall also images the ghosts
+// before it (remote particles near the wall, periodic images, earlier walls' images), so
+// corners are covered and a wall that crosses rank domains is mirrored on every rank.
 #include "spall/io/Deck.hpp"
+#include "spall/parallel/HaloExchange.hpp"
 #include "spall/solvers/SphFields.hpp"
 
 #include <vector>
@@ -17,8 +20,9 @@ public:
   bool empty() const { return walls_.empty() && periodic_.empty(); }
   // Maps owned particles that left a periodic box back into it.
   void wrapPeriodic(ParticleStore& s) const;
-  // Drops old ghosts and images every particle within `reach` of a boundary.
+  // Appends the mirror image of every particle (owned or ghost) within `reach` of a wall.
   void buildGhosts(ParticleStore& s, double reach);
+  std::vector<parallel::PeriodicAxis> periodicAxes() const;
   // Copies the fields that change between ghost creation and the force loop (summation density
   // and the EOS) from each ghost's source.
   void refreshGhosts(ParticleStore& s) const;
@@ -31,14 +35,10 @@ private:
     int axis;
     double min, max;
   };
-  struct Kind {
-    bool wall;
-    std::size_t index;
-  };
   std::vector<Wall> walls_;
   std::vector<Periodic> periodic_;
-  std::vector<Kind> order_;           // deck order
-  std::vector<std::uint32_t> source_; // ghost k = localCount + k images source_[k]
+  std::size_t first_ = 0;             // first wall ghost
+  std::vector<std::uint32_t> source_; // ghost first_ + k images source_[k]
   SphFields<Dim> f_;
 };
 

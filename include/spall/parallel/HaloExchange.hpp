@@ -1,0 +1,67 @@
+#pragma once
+// Remote ghosts: copies of other ranks' particles (and periodic images of anyone's, this rank's
+// included) whose kernel support can reach a particle owned here. Physics-free: the caller says
+// how far each particle reaches (support x h for SPH, the H tensor's largest axis for ASPH) and
+// which fields to send.
+//
+// A rank describes its domain by up to kBoxes bounding boxes of consecutive owned particles
+// (compact when the owned particles are in key order), each with the largest reach inside it.
+// Particle j goes to rank r with periodic shift s when x_j + s lies within max(reach_j, reach_b)
+// of one of r's boxes b: then every pair (i, j) with |x_i - x_j| < max(reach_i, reach_j) is
+// complete on the rank that owns i, which is what the symmetric SPH sums need.
+#include "spall/core/ParticleStore.hpp"
+#include "spall/core/Types.hpp"
+
+#include <mpi.h>
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace spall::parallel {
+
+struct PeriodicAxis {
+  int axis = 0;
+  double min = 0.0, max = 1.0;
+};
+
+template <int Dim> class HaloExchange {
+public:
+  static constexpr int kBoxes = 32;
+
+  HaloExchange(MPI_Comm comm, std::vector<PeriodicAxis> periodic);
+
+  // Drops all ghosts, finds which owned particles every rank needs and appends the ones this
+  // rank needs as ghosts [localCount, localCount + ghosts()), with the listed fields (column
+  // indices) filled; received positions get their periodic shift.
+  void build(ParticleStore& s, Field<Vec<Dim>> x, std::span<const double> reach,
+             std::span<const std::size_t> fields);
+  // Re-sends the listed fields along the last build's plan (e.g. density after the summation).
+  void refresh(ParticleStore& s, std::span<const std::size_t> fields);
+
+  std::size_t ghosts() const { return received_; }
+  std::size_t sent() const { return sentTotal_; }
+
+private:
+  struct Box {
+    Vec<Dim> lo, hi;
+    double reach = 0.0;
+  };
+  void describeDomains(std::span<const Vec<Dim>> x, std::span<const double> reach);
+  void plan(std::span<const Vec<Dim>> x, std::span<const double> reach);
+  Vec<Dim> shiftOf(std::uint8_t code) const;
+  void send(ParticleStore& s, std::span<const std::size_t> fields, std::size_t first);
+
+  MPI_Comm comm_;
+  int rank_ = 0, size_ = 1;
+  std::vector<PeriodicAxis> periodic_;
+  std::vector<Box> boxes_;      // kBoxes per rank, all ranks; empty boxes have lo > hi
+  std::vector<Box> rankBox_;    // union per rank
+  std::vector<std::vector<std::uint32_t>> rows_;  // owned rows to send, per rank
+  std::vector<std::vector<std::uint8_t>> codes_;  // periodic shift code of each, per rank
+  std::vector<std::size_t> recvCount_;
+  std::size_t first_ = 0, received_ = 0, sentTotal_ = 0;
+};
+
+} // namespace spall::parallel

@@ -1,0 +1,211 @@
+#include "spall/parallel/HaloExchange.hpp"
+
+#include "spall/parallel/Exchange.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace spall::parallel {
+
+template <int Dim>
+HaloExchange<Dim>::HaloExchange(MPI_Comm comm, std::vector<PeriodicAxis> periodic)
+    : comm_(comm), periodic_(std::move(periodic)) {
+  MPI_Comm_rank(comm_, &rank_);
+  MPI_Comm_size(comm_, &size_);
+}
+
+template <int Dim>
+void HaloExchange<Dim>::describeDomains(std::span<const Vec<Dim>> x,
+                                        std::span<const double> reach) {
+  constexpr int per = 2 * Dim + 1;
+  std::vector<double> mine(static_cast<std::size_t>(kBoxes * per));
+  const std::size_t n = x.size();
+  const std::size_t chunk = (n + kBoxes - 1) / kBoxes;
+  for (int b = 0; b < kBoxes; ++b) {
+    Vec<Dim> lo = Vec<Dim>::Constant(std::numeric_limits<double>::infinity());
+    Vec<Dim> hi = -lo;
+    double r = 0.0;
+    const std::size_t begin = std::min(n, static_cast<std::size_t>(b) * chunk);
+    const std::size_t end = std::min(n, begin + chunk);
+    for (std::size_t i = begin; i < end; ++i) {
+      if (!x[i].allFinite()) continue; // reported by the run's finiteness check, not here
+      lo = lo.cwiseMin(x[i]);
+      hi = hi.cwiseMax(x[i]);
+      r = std::max(r, reach[i]);
+    }
+    double* out = &mine[static_cast<std::size_t>(b * per)];
+    for (int d = 0; d < Dim; ++d) out[d] = lo[d], out[Dim + d] = hi[d];
+    out[2 * Dim] = r;
+  }
+  std::vector<double> all(mine.size() * static_cast<std::size_t>(size_));
+  MPI_Allgather(mine.data(), static_cast<int>(mine.size()), MPI_DOUBLE, all.data(),
+                static_cast<int>(mine.size()), MPI_DOUBLE, comm_);
+  boxes_.assign(all.size() / per, Box{});
+  rankBox_.assign(static_cast<std::size_t>(size_), Box{});
+  for (std::size_t k = 0; k < boxes_.size(); ++k) {
+    Box& b = boxes_[k];
+    for (int d = 0; d < Dim; ++d) b.lo[d] = all[k * per + d], b.hi[d] = all[k * per + Dim + d];
+    b.reach = all[k * per + 2 * Dim];
+    Box& u = rankBox_[k / kBoxes];
+    if (k % kBoxes == 0) u = b;
+    u.lo = u.lo.cwiseMin(b.lo);
+    u.hi = u.hi.cwiseMax(b.hi);
+    u.reach = std::max(u.reach, b.reach);
+  }
+}
+
+namespace {
+
+template <int Dim> double distance2(const Vec<Dim>& p, const Vec<Dim>& lo, const Vec<Dim>& hi) {
+  double d2 = 0.0;
+  for (int d = 0; d < Dim; ++d) {
+    const double e = std::max({lo[d] - p[d], 0.0, p[d] - hi[d]});
+    d2 += e * e;
+  }
+  return d2;
+}
+
+// Slack on the reach test: the pair test r < reach is evaluated from the positions differently
+// than the box distance, so a pair exactly at the edge must not be lost to rounding.
+constexpr double kSlack = 1.0 + 1e-9;
+
+} // namespace
+
+template <int Dim> Vec<Dim> HaloExchange<Dim>::shiftOf(std::uint8_t code) const {
+  Vec<Dim> s = Vec<Dim>::Zero();
+  for (const auto& p : periodic_) {
+    const int t = code % 3;
+    code = static_cast<std::uint8_t>(code / 3);
+    const double L = p.max - p.min;
+    if (t == 1) s[p.axis] += L;
+    if (t == 2) s[p.axis] -= L;
+  }
+  return s;
+}
+
+template <int Dim>
+void HaloExchange<Dim>::plan(std::span<const Vec<Dim>> x, std::span<const double> reach) {
+  rows_.assign(static_cast<std::size_t>(size_), {});
+  codes_.assign(static_cast<std::size_t>(size_), {});
+  double reachMax = 0.0;
+  for (const auto& u : rankBox_) reachMax = std::max(reachMax, u.reach);
+  std::vector<std::uint8_t> shifts;
+  for (std::size_t j = 0; j < x.size(); ++j) {
+    const Vec<Dim>& xj = x[j];
+    if (!xj.allFinite()) continue;
+    // Periodic images worth testing: along each periodic axis, +L near min and -L near max.
+    shifts.assign(1, 0);
+    std::uint8_t weight = 1;
+    for (const auto& p : periodic_) {
+      const double far = std::max(reachMax, reach[j]) * kSlack;
+      const std::size_t m = shifts.size();
+      if (xj[p.axis] - p.min < far)
+        for (std::size_t k = 0; k < m; ++k) shifts.push_back(static_cast<std::uint8_t>(shifts[k] + weight));
+      if (p.max - xj[p.axis] <= far)
+        for (std::size_t k = 0; k < m; ++k)
+          shifts.push_back(static_cast<std::uint8_t>(shifts[k] + 2 * weight));
+      weight = static_cast<std::uint8_t>(weight * 3);
+    }
+    for (const std::uint8_t code : shifts) {
+      const Vec<Dim> xs = code ? Vec<Dim>(xj + shiftOf(code)) : xj;
+      for (int r = 0; r < size_; ++r) {
+        if (r == rank_ && code == 0) continue;
+        const Box& u = rankBox_[static_cast<std::size_t>(r)];
+        const double ru = std::max(reach[j], u.reach) * kSlack;
+        if (!(u.lo[0] <= u.hi[0]) || distance2<Dim>(xs, u.lo, u.hi) >= ru * ru) continue;
+        for (int b = 0; b < kBoxes; ++b) {
+          const Box& box = boxes_[static_cast<std::size_t>(r * kBoxes + b)];
+          if (!(box.lo[0] <= box.hi[0])) continue;
+          const double rb = std::max(reach[j], box.reach) * kSlack;
+          if (distance2<Dim>(xs, box.lo, box.hi) < rb * rb) {
+            rows_[static_cast<std::size_t>(r)].push_back(static_cast<std::uint32_t>(j));
+            codes_[static_cast<std::size_t>(r)].push_back(code);
+            break;
+          }
+        }
+      }
+    }
+  }
+}
+
+template <int Dim>
+void HaloExchange<Dim>::send(ParticleStore& s, std::span<const std::size_t> fields,
+                             std::size_t first) {
+  std::size_t rowBytes = 0;
+  for (std::size_t f : fields) rowBytes += s.columns()[f]->bytesPerParticle();
+  std::vector<std::size_t> bytesTo(static_cast<std::size_t>(size_));
+  std::size_t total = 0;
+  for (int r = 0; r < size_; ++r) {
+    bytesTo[static_cast<std::size_t>(r)] = rows_[static_cast<std::size_t>(r)].size() * rowBytes;
+    total += bytesTo[static_cast<std::size_t>(r)];
+  }
+  std::vector<std::byte> buffer(total);
+  std::size_t at = 0;
+  for (int r = 0; r < size_; ++r) {
+    const auto& rows = rows_[static_cast<std::size_t>(r)];
+    for (std::size_t f : fields) {
+      const ColumnBase& c = *s.columns()[f];
+      c.pack(rows, buffer.data() + at);
+      at += rows.size() * c.bytesPerParticle();
+    }
+  }
+  const ExchangeResult in = exchangeBytes(comm_, buffer, bytesTo);
+  std::size_t row = first;
+  for (int r = 0; r < size_; ++r) {
+    const std::size_t count = recvCount_[static_cast<std::size_t>(r)];
+    const std::byte* p = in.data.data() + in.offsetFrom[static_cast<std::size_t>(r)];
+    for (std::size_t f : fields) {
+      ColumnBase& c = *s.columns()[f];
+      c.unpack(p, row, count);
+      p += count * c.bytesPerParticle();
+    }
+    row += count;
+  }
+}
+
+template <int Dim>
+void HaloExchange<Dim>::build(ParticleStore& s, Field<Vec<Dim>> xf, std::span<const double> reach,
+                              std::span<const std::size_t> fields) {
+  s.dropGhosts();
+  const std::size_t n = s.localCount();
+  const auto x = std::span<const Vec<Dim>>(s[xf]).first(n);
+  describeDomains(x, reach.first(n));
+  plan(x, reach.first(n));
+
+  std::vector<std::size_t> countTo(static_cast<std::size_t>(size_));
+  sentTotal_ = 0;
+  for (int r = 0; r < size_; ++r) {
+    countTo[static_cast<std::size_t>(r)] = rows_[static_cast<std::size_t>(r)].size();
+    sentTotal_ += countTo[static_cast<std::size_t>(r)];
+  }
+  // The shift codes double as the counts' exchange.
+  std::vector<std::byte> codes;
+  for (const auto& c : codes_)
+    for (std::uint8_t v : c) codes.push_back(static_cast<std::byte>(v));
+  const ExchangeResult in = exchangeBytes(comm_, codes, countTo);
+  recvCount_ = in.countFrom;
+  received_ = in.data.size();
+  first_ = s.appendGhosts(received_);
+  send(s, fields, first_);
+
+  bool sentPosition = false;
+  for (std::size_t f : fields) sentPosition = sentPosition || f == xf.index;
+  if (!sentPosition) return;
+  auto xs = s[xf];
+  for (std::size_t k = 0; k < received_; ++k) {
+    const auto code = static_cast<std::uint8_t>(in.data[k]);
+    if (code) xs[first_ + k] += shiftOf(code);
+  }
+}
+
+template <int Dim>
+void HaloExchange<Dim>::refresh(ParticleStore& s, std::span<const std::size_t> fields) {
+  send(s, fields, first_);
+}
+
+template class HaloExchange<1>;
+template class HaloExchange<2>;
+template class HaloExchange<3>;
+
+} // namespace spall::parallel
