@@ -223,10 +223,15 @@ private:
       boundaries_->buildGhosts(store_, solver_->support() * mpi_.max(hmax));
     });
     Phases::time(phases_.neighbors, [&] {
-      neighbors::buildNeighborList<Dim>(store_[f_.x], store_[f_.h], store_.localCount(),
-                                        solver_->support(), grid_, neighbors_);
-      if (deck_.decomposition.reproducible)
-        neighbors::sortRowsCanonically<Dim>(store_[f_.id], store_[f_.x], neighbors_);
+      if (deck_.decomposition.reproducible) {
+        const neighbors::CanonicalOrder<Dim> order{store_[f_.id], store_[f_.x], canonicalH()};
+        if (!neighbors::buildNeighborList<Dim>(store_[f_.x], store_[f_.h], store_.localCount(),
+                                               solver_->support(), grid_, neighbors_, &order))
+          neighbors::sortRowsCanonically<Dim>(store_[f_.id], store_[f_.x], neighbors_);
+      } else {
+        neighbors::buildNeighborList<Dim>(store_[f_.x], store_[f_.h], store_.localCount(),
+                                          solver_->support(), grid_, neighbors_);
+      }
       const auto cost = store_[cost_];
       for (std::size_t i = 0; i < store_.localCount(); ++i)
         cost[i] = static_cast<std::int32_t>(1 + neighbors_.offsets[i + 1] - neighbors_.offsets[i]);
@@ -247,6 +252,21 @@ private:
       Phases::time(phases_.boundaries, [&] { boundaries_->refreshGhosts(store_); });
     }
     Phases::time(phases_.forces, [&] { solver_->computeRates(neighbors_); });
+  }
+
+  // The geometric mean of the owned particles' h over all ranks, summed exactly (log2 h in fixed
+  // point, integer allreduce): the same value on any rank count, which a canonical neighbor
+  // order needs for its grid.
+  double canonicalH() const {
+    std::int64_t sum[2] = {0, 0};
+    for (double h : store_[f_.h].first(store_.localCount())) {
+      if (!(h > 0.0) || !std::isfinite(h)) continue;
+      sum[0] += std::llround(std::log2(h) * 1048576.0);
+      ++sum[1];
+    }
+    MPI_Allreduce(MPI_IN_PLACE, sum, 2, MPI_INT64_T, MPI_SUM, mpi_.comm());
+    if (sum[1] == 0) return 1.0;
+    return std::exp2(static_cast<double>(sum[0]) / 1048576.0 / static_cast<double>(sum[1]));
   }
 
   // ---- kick-drift-kick leapfrog ------------------------------------------------------------

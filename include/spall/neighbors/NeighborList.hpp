@@ -26,29 +26,56 @@ struct NeighborList {
   }
 };
 
+// A rank-count-independent order of particles (ids, then positions to tell a particle's periodic
+// and mirror images apart) and a cell size computed from global quantities only. With it, the
+// neighbor rows come out in the same order on any decomposition, so the neighbor sums are added
+// in the same order and a run is bit-for-bit identical on any number of ranks.
+template <int Dim> struct CanonicalOrder {
+  std::span<const ParticleId> id;
+  std::span<const Vec<Dim>> x;
+  double hRef = 0.0; // the same on every rank (e.g. an exactly summed global mean)
+  bool less(std::uint32_t a, std::uint32_t b) const {
+    if (id[a] != id[b]) return id[a] < id[b];
+    for (int d = 0; d < Dim; ++d)
+      if (x[a][d] != x[b][d]) return x[a][d] < x[b][d];
+    return false; // the same image twice: identical values, either order gives the same sums
+  }
+};
+
 template <int Dim> class CellGrid {
 public:
-  // Bins all `x` (owned and ghosts) into cells of about `cellSize`; the grid is coarsened when
-  // the particles' extent would need more than ~2 cells per particle (a far-flung particle must
-  // not cost memory).
-  void build(std::span<const Vec<Dim>> x, double cellSize) {
-    lo_ = Vec<Dim>::Constant(std::numeric_limits<double>::max());
+  // Bins all `x` (owned and ghosts) into cells of `cellSize` aligned to the origin (so a cell is
+  // the same cell on every rank). The grid is coarsened when the particles' extent would need
+  // more than ~2 cells per particle (a far-flung particle must not cost memory); returns false
+  // then. With `order`, the members of each cell are kept in its order.
+  bool build(std::span<const Vec<Dim>> x, double cellSize,
+             const CanonicalOrder<Dim>* order = nullptr) {
+    Vec<Dim> lo = Vec<Dim>::Constant(std::numeric_limits<double>::max());
     Vec<Dim> hi = Vec<Dim>::Constant(std::numeric_limits<double>::lowest());
     for (const auto& p : x) {
-      lo_ = lo_.cwiseMin(p);
+      lo = lo.cwiseMin(p);
       hi = hi.cwiseMax(p);
     }
-    if (x.empty()) lo_.setZero(), hi.setZero();
+    if (x.empty()) lo.setZero(), hi.setZero();
     double size = cellSize;
-    const double maxCells = 2.0 * static_cast<double>(x.size()) + 64.0;
+    bool kept = true;
+    // A canonical grid must not be coarsened (the row order would then depend on the rank), so
+    // it may take more memory: up to ~1M cells beyond 8 per particle (4 MB). Past that a rank
+    // coarsens, sorts its rows, and bit-for-bit equality with other rank counts is lost (the
+    // results still agree to round-off).
+    const double maxCells = order ? 8.0 * static_cast<double>(x.size()) + 1048576.0
+                                  : 2.0 * static_cast<double>(x.size()) + 64.0;
     for (;;) {
       double total = 1.0;
       for (int d = 0; d < Dim; ++d) {
-        n_[d] = std::max<std::int64_t>(1, static_cast<std::int64_t>((hi[d] - lo_[d]) / size) + 1);
+        base_[d] = static_cast<std::int64_t>(std::floor(lo[d] / size));
+        n_[d] = std::max<std::int64_t>(
+            1, static_cast<std::int64_t>(std::floor(hi[d] / size)) - base_[d] + 1);
         total *= static_cast<double>(n_[d]);
       }
       if (total <= maxCells) break;
       size *= std::pow(total / maxCells, 1.0 / Dim) * 1.01;
+      kept = false;
     }
     size_ = size;
     inv_ = 1.0 / size;
@@ -65,6 +92,14 @@ public:
     std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
     for (std::size_t i = 0; i < x.size(); ++i)
       members_[fill[cellOf_[i]]++] = static_cast<std::uint32_t>(i);
+    if (order) {
+      for (std::size_t c = 0; c + 1 < start_.size(); ++c) {
+        if (start_[c + 1] - start_[c] < 2) continue;
+        std::sort(members_.begin() + start_[c], members_.begin() + start_[c + 1],
+                  [&](std::uint32_t a, std::uint32_t b) { return order->less(a, b); });
+      }
+    }
+    return kept;
   }
 
   double cellSize() const { return size_; }
@@ -72,7 +107,7 @@ public:
   std::uint32_t cellIndex(const Vec<Dim>& p) const {
     std::int64_t c = 0;
     for (int d = Dim - 1; d >= 0; --d) {
-      std::int64_t k = static_cast<std::int64_t>((p[d] - lo_[d]) * inv_);
+      std::int64_t k = static_cast<std::int64_t>(std::floor(p[d] * inv_)) - base_[d];
       k = std::clamp<std::int64_t>(k, 0, n_[d] - 1);
       c = c * n_[d] + k;
     }
@@ -81,7 +116,7 @@ public:
   std::span<const std::uint32_t> cellOf() const { return cellOf_; }
 
   // Calls visit(j) for every particle in the cells within `reach` cells of cell `c` along each
-  // axis (a (2 reach + 1)^Dim block).
+  // axis (a (2 reach + 1)^Dim block), cells in z, y, x order.
   template <class F> void forEachNear(std::uint32_t c, std::int64_t reach, F&& visit) const {
     std::int64_t k[3] = {0, 0, 0};
     std::int64_t rem = c;
@@ -106,8 +141,8 @@ public:
   }
 
 private:
-  Vec<Dim> lo_;
   double size_ = 1.0, inv_ = 1.0;
+  std::int64_t base_[3] = {0, 0, 0};
   std::int64_t n_[3] = {1, 1, 1};
   std::vector<std::uint32_t> start_;
   std::vector<std::uint32_t> cellOf_;
@@ -115,23 +150,28 @@ private:
 };
 
 // Builds the neighbor lists of the first `owned` particles of x (the rest are ghosts): every j
-// with r_ij < support * max(h_i, h_j). Each particle gathers within its own support on a grid
-// sized by the median h, so that a few particles with a large h (free surfaces, a blast's hot
-// core) do not coarsen the search for all; a pair that only the larger support reaches is
-// found from that side and added to the other's list.
+// with r_ij < support * max(h_i, h_j). Each particle gathers within its own support; a pair that
+// only the larger support reaches is found from that side and added to the other's list.
+// Without `order` the grid is sized by the local median h, so that a few particles with a large
+// h (free surfaces, a blast's hot core) do not coarsen the search for all. With `order` the grid
+// is sized by order->hRef and every row comes out in a rank-count-independent order (cells in a
+// fixed order, members sorted within cells, pairs from the other side sorted); returns false if
+// that could not be kept (a coarsened grid), and the caller then sorts the rows.
 template <int Dim>
-void buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h, std::size_t owned,
-                       double support, CellGrid<Dim>& grid, NeighborList& out) {
+bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h, std::size_t owned,
+                       double support, CellGrid<Dim>& grid, NeighborList& out,
+                       const CanonicalOrder<Dim>* order = nullptr) {
   const std::size_t n = x.size();
-  std::vector<double> hs(h.begin(), h.begin() + static_cast<std::ptrdiff_t>(n));
-  double hRef = 0.0;
-  if (!hs.empty()) {
+  double hRef = order ? order->hRef : 0.0;
+  if (!order && n > 0) {
+    std::vector<double> hs(h.begin(), h.begin() + static_cast<std::ptrdiff_t>(n));
     std::nth_element(hs.begin(), hs.begin() + static_cast<std::ptrdiff_t>(hs.size() / 2), hs.end());
     hRef = hs[hs.size() / 2];
   }
+  if (!(hRef > 0.0)) hRef = 1.0;
   // Cells of half the typical support: a (5 cells)^Dim block covers it with fewer candidates
   // than (3 cells of a full support)^Dim.
-  grid.build(x, 0.5 * support * hRef);
+  const bool kept = grid.build(x, 0.5 * support * hRef, order);
   const double cell = grid.cellSize();
   out.offsets.assign(owned + 1, 0);
   // Reuse last build's size: a doubling vector would hold up to twice the memory it needs.
@@ -155,10 +195,16 @@ void buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h, s
     });
     if (aOwned) out.offsets[a + 1] = out.indices.size();
   }
-  if (extra.empty()) return;
+  if (extra.empty()) return kept || !order;
   // Merge the pairs found from the other side into the rows of their owned particle, in place:
   // grow the index array once, then move rows back to front to their final place.
-  std::sort(extra.begin(), extra.end());
+  if (order) {
+    std::sort(extra.begin(), extra.end(), [&](const auto& p, const auto& q) {
+      return p.first != q.first ? p.first < q.first : order->less(p.second, q.second);
+    });
+  } else {
+    std::sort(extra.begin(), extra.end());
+  }
   const std::size_t gathered = out.indices.size();
   out.indices.resize(gathered + extra.size());
   std::size_t e = extra.size();
@@ -169,12 +215,11 @@ void buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h, s
     for (; e > 0 && extra[e - 1].first == i; --e) out.indices[--write] = extra[e - 1].second;
     for (std::uint64_t k = end; k-- > begin;) out.indices[--write] = out.indices[k];
   }
+  return kept || !order;
 }
 
-// Sorts every row by a rank-count-independent order of the particles (ids, and positions to
-// tell a particle's periodic and mirror images apart), so that the neighbor sums are added in
-// the same order whatever the decomposition: the run is then bit-for-bit identical on any
-// number of ranks. Costs a sort per row (see decks/README.md, decomposition.reproducible).
+// Sorts every row by the canonical order: the fallback when buildNeighborList could not keep its
+// rows canonical (~20x the cost of the canonical build's own sorting).
 template <int Dim>
 void sortRowsCanonically(std::span<const ParticleId> id, std::span<const Vec<Dim>> x,
                          NeighborList& nl) {

@@ -62,17 +62,18 @@ std::uint64_t hilbertKey(std::array<std::uint64_t, Dim> X, int bits = keyBits<Di
   return key;
 }
 
-// Keys of positions inside a fixed box; positions outside are clamped to its faces, so a particle
+// Keys of positions inside a fixed cube (the box's largest extent from its low corner); positions outside are clamped to its faces, so a particle
 // that flew out of the box still gets a valid key (the box is refreshed at each rebalance).
 template <int Dim> class KeyMap {
 public:
   KeyMap() = default;
   KeyMap(const Vec<Dim>& lo, const Vec<Dim>& hi, Curve curve) : lo_(lo), curve_(curve) {
+    // One scale for all axes (the largest extent): cubic cells keep the curve's locality the
+    // same in every direction, and a long thin body is cut across its length.
     const double cells = std::ldexp(1.0, keyBits<Dim>()); // 2^bits
-    for (int d = 0; d < Dim; ++d) {
-      const double span = hi[d] - lo[d];
-      scale_[d] = span > 0.0 ? cells / span : 0.0;
-    }
+    double span = 0.0;
+    for (int d = 0; d < Dim; ++d) span = std::max(span, hi[d] - lo[d]);
+    scale_ = Vec<Dim>::Constant(span > 0.0 ? cells / span : 0.0);
   }
   std::uint64_t operator()(const Vec<Dim>& x) const {
     constexpr std::uint64_t maxCoord = (std::uint64_t{1} << keyBits<Dim>()) - 1;

@@ -1,0 +1,126 @@
+#!/usr/bin/python3
+"""Whole decks on 1, 2, 3 and 4 ranks (3 and 4 oversubscribed: correctness only) give the same
+particle state, matched by id, bit for bit: spall adds every neighbor sum in a canonical order
+(decomposition.reproducible, on by default), so the decomposition cannot change a single bit.
+Also: the 10 km/s stream deck crosses >= 3 rank domains in one step without losing a particle,
+global conservation is the 1-rank run's, and more ranks than particles still runs.
+
+usage: test_rank_invariance.py SPALL SOURCE_DIR
+"""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import h5py
+import numpy as np
+
+SPALL, SRC = Path(sys.argv[1]), Path(sys.argv[2])
+ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+           OMPI_MCA_rmaps_base_oversubscribe="1")
+failures = []
+
+
+def run(deck, ranks, out, *sets):
+    cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(ranks), str(SPALL), "run",
+           str(deck), "--output", str(out), "--overwrite", "--quiet"]
+    for s in sets:
+        cmd += ["--set", s]
+    p = subprocess.run(cmd, capture_output=True, text=True, env=ENV)
+    if p.returncode != 0:
+        failures.append(f"{deck.name} on {ranks} ranks: exit {p.returncode}\n{p.stderr[-2000:]}")
+        return None
+    return json.loads((out / "summary.json").read_text())
+
+
+def final_state(out):
+    snap = sorted((out / "snapshots").glob("snap_*.h5"))[-1]
+    with h5py.File(snap, "r") as f:
+        g = f["particles"]
+        order = np.argsort(g["id"][()])
+        return {k: g[k][()][order] for k in g}, f.attrs["time"]
+
+
+def check(cond, message):
+    print(("ok   " if cond else "FAIL ") + message)
+    if not cond:
+        failures.append(message)
+
+
+# Shortened where the full run is long: the point is the rank count, not the physics.
+CASES = [("sod_1d.toml", []), ("rod_impact_copper.toml", ["run.end_time=6e-6"]),
+         ("noh_2d.toml", ["run.end_time=0.05", "run.resolution=0.5"])]
+
+with tempfile.TemporaryDirectory() as tmp:
+    tmp = Path(tmp)
+    for deck, sets in CASES:
+        base, base_time = None, None
+        history = {}
+        for ranks in (1, 2, 3, 4):
+            out = tmp / f"{deck}_{ranks}"
+            summary = run(SRC / "decks" / deck, ranks, out, *sets)
+            if summary is None:
+                continue
+            state, t = final_state(out)
+            history[ranks] = np.genfromtxt(out / "history.csv", delimiter=",", names=True)
+            if ranks == 1:
+                base, base_time = state, t
+                continue
+            same = t == base_time and set(state) == set(base) and all(
+                state[k].shape == base[k].shape and np.array_equal(state[k], base[k]) for k in base)
+            worst = 0.0
+            if not same and all(state[k].shape == base[k].shape for k in base):
+                for k in base:
+                    a, b = base[k].astype(float), state[k].astype(float)
+                    scale = np.max(np.abs(a)) or 1.0
+                    worst = max(worst, float(np.max(np.abs(a - b))) / scale)
+            check(same, f"{deck} on {ranks} ranks: final state bit-for-bit equal to 1 rank"
+                        + ("" if same else f" (largest relative difference {worst:.2e})"))
+            # Global conservation: the same totals as on one rank, to round-off of the sums.
+            h1, hr = history[1], history[ranks]
+            for col in ("mass", "momentum_x", "total_energy"):
+                scale = max(np.max(np.abs(h1[col])), np.max(np.abs(h1["kinetic_energy"])), 1e-300)
+                err = float(np.max(np.abs(h1[col] - hr[col]))) / scale
+                check(err < 1e-12, f"{deck} on {ranks} ranks: history {col} matches 1 rank ({err:.1e})")
+
+    # Fast particles: 10 km/s across >= 3 domains in one step on 4 ranks.
+    stream = SRC / "tests" / "mpi" / "decks" / "fast_stream_2d.toml"
+    s1 = run(stream, 1, tmp / "stream1")
+    s4 = run(stream, 4, tmp / "stream4")
+    if s1 and s4:
+        check(s4["decomposition"]["max_rank_distance"] >= 3,
+              f"stream crossed {s4['decomposition']['max_rank_distance']} rank domains in one step (>= 3)")
+        a, _ = final_state(tmp / "stream1")
+        b, _ = final_state(tmp / "stream4")
+        check(np.array_equal(a["id"], b["id"]) and len(np.unique(b["id"])) == len(b["id"]),
+              f"stream: the same {len(a['id'])} unique ids on 4 ranks as on 1")
+        h = np.genfromtxt(tmp / "stream4" / "history.csv", delimiter=",", names=True)
+        check(np.all(h["particles"] == h["particles"][0]), "stream: particle count constant")
+        check(np.all(h["mass"] == h["mass"][0]), "stream: total mass exactly constant")
+        p0 = np.abs(h["momentum_x"][0])
+        check(np.max(np.abs(h["momentum_x"] - h["momentum_x"][0])) <= 1e-12 * p0,
+              "stream: x momentum constant to 1e-12")
+        check(all(np.array_equal(a[k], b[k]) for k in a), "stream: final state bit-for-bit as 1 rank")
+
+    # More ranks than particles: a 3-particle deck on 4 ranks.
+    tiny = tmp / "tiny.toml"
+    tiny.write_text((SRC / "decks" / "sod_1d.toml").read_text())
+    s = run(tiny, 4, tmp / "tiny4", "body.left.shape.min=[-0.0025]", "body.right.shape.max=[0.01]",
+            "run.end_time=0.01")
+    s1 = run(tiny, 1, tmp / "tiny1", "body.left.shape.min=[-0.0025]", "body.right.shape.max=[0.01]",
+             "run.end_time=0.01")
+    if s and s1:
+        check(s["particles"] == s1["particles"] and s["particles"] < 4,
+              f"{s['particles']} particles on 4 ranks run like on 1")
+        a, _ = final_state(tmp / "tiny1")
+        b, _ = final_state(tmp / "tiny4")
+        check(all(np.array_equal(a[k], b[k]) for k in a), "tiny deck: 4 ranks bit-for-bit as 1 rank")
+
+if failures:
+    print(f"\n{len(failures)} failure(s):")
+    for f in failures:
+        print(" -", f)
+    sys.exit(1)
+print("all rank-count checks passed")
