@@ -122,8 +122,7 @@ template <int Dim> void Decomposition<Dim>::sortByKey(ParticleStore& s) {
   s.permuteLocal(order);
 }
 
-template <int Dim>
-MigrationStats Decomposition<Dim>::migrate(ParticleStore& s, std::int64_t step) {
+template <int Dim> MigrationStats Decomposition<Dim>::migrate(ParticleStore& s, std::int64_t step) {
   const MigrationStats m = moveToOwners(s);
   if (cfg_.reorderEvery > 0 && step % cfg_.reorderEvery == 0) sortByKey(s);
   return m;
@@ -174,8 +173,8 @@ RebalanceReport Decomposition<Dim>::rebalance(ParticleStore& s,
     const double wanted = std::max(static_cast<double>(global) / 16.0, 64.0 * size_);
     const int bits = keyBits<Dim>() * Dim;
     // Cell ids stay below 2^32 (edges are keyed by a pair of them in 64 bits).
-    const int levels = std::min({keyBits<Dim>(), 32 / Dim,
-                                 static_cast<int>(std::ceil(std::log2(wanted) / Dim))});
+    const int levels =
+        std::min({keyBits<Dim>(), 32 / Dim, static_cast<int>(std::ceil(std::log2(wanted) / Dim))});
     shift = bits - Dim * levels;
     CellGraph g;
     g.shift = shift;

@@ -101,7 +101,8 @@ void HaloExchange<Dim>::plan(std::span<const Vec<Dim>> x, std::span<const double
       const double far = std::max(reachMax, reach[j]) * kSlack;
       const std::size_t m = shifts.size();
       if (xj[p.axis] - p.min < far)
-        for (std::size_t k = 0; k < m; ++k) shifts.push_back(static_cast<std::uint8_t>(shifts[k] + weight));
+        for (std::size_t k = 0; k < m; ++k)
+          shifts.push_back(static_cast<std::uint8_t>(shifts[k] + weight));
       if (p.max - xj[p.axis] <= far)
         for (std::size_t k = 0; k < m; ++k)
           shifts.push_back(static_cast<std::uint8_t>(shifts[k] + 2 * weight));

@@ -69,8 +69,8 @@ std::vector<std::uint64_t> weightedSplitters(MPI_Comm comm, std::span<const std:
 
 namespace {
 
-template <class T> std::vector<T> gatherToRoot(MPI_Comm comm, const std::vector<T>& local,
-                                               MPI_Datatype type) {
+template <class T>
+std::vector<T> gatherToRoot(MPI_Comm comm, const std::vector<T>& local, MPI_Datatype type) {
   int size = 1, rank = 0;
   MPI_Comm_size(comm, &size);
   MPI_Comm_rank(comm, &rank);
@@ -80,7 +80,8 @@ template <class T> std::vector<T> gatherToRoot(MPI_Comm comm, const std::vector<
   std::vector<T> all;
   if (rank == 0) {
     int total = 0;
-    for (int r = 0; r < size; ++r) displs[static_cast<std::size_t>(r)] = total, total += counts[static_cast<std::size_t>(r)];
+    for (int r = 0; r < size; ++r)
+      displs[static_cast<std::size_t>(r)] = total, total += counts[static_cast<std::size_t>(r)];
     all.resize(static_cast<std::size_t>(total));
   }
   MPI_Gatherv(local.data(), n, type, all.data(), counts.data(), displs.data(), type, 0, comm);
@@ -142,7 +143,7 @@ MetisResult metisPartition(MPI_Comm comm, const CellGraph& local) {
                                              options, &objval, part.data());
       if (status == METIS_OK) {
         used = 1;
-        cut = objval;
+        cut = objval / 2; // every pair is listed from both of its particles' rows
         for (std::size_t v = 0; v < ids.size(); ++v) {
           const int r = static_cast<int>(part[v]);
           if (!owners.empty() && owners.back() == r) continue; // merge runs of one rank

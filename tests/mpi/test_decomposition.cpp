@@ -69,8 +69,10 @@ std::vector<ParticleId> allIds(const Cloud& c) {
   std::vector<int> counts(static_cast<std::size_t>(size)), displs(static_cast<std::size_t>(size));
   MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
   int total = 0;
-  for (int r = 0; r < size; ++r) displs[static_cast<std::size_t>(r)] = total, total += counts[static_cast<std::size_t>(r)];
-  std::vector<ParticleId> mine(c.s[c.id].begin(), c.s[c.id].begin() + n), all(static_cast<std::size_t>(total));
+  for (int r = 0; r < size; ++r)
+    displs[static_cast<std::size_t>(r)] = total, total += counts[static_cast<std::size_t>(r)];
+  std::vector<ParticleId> mine(c.s[c.id].begin(), c.s[c.id].begin() + n),
+      all(static_cast<std::size_t>(total));
   MPI_Allgatherv(mine.data(), n, MPI_UINT64_T, all.data(), counts.data(), displs.data(),
                  MPI_UINT64_T, MPI_COMM_WORLD);
   std::sort(all.begin(), all.end());
@@ -93,11 +95,14 @@ TEST(Partition, WeightedCutsBalanceSyntheticCosts) {
   const auto own = KeyOwnership::contiguous(cuts);
   std::vector<std::uint64_t> share(static_cast<std::size_t>(size), 0);
   std::uint64_t total = 0;
-  for (std::size_t i = 0; i < keys.size(); ++i) share[static_cast<std::size_t>(own.owner(keys[i]))] += cost[i], total += cost[i];
+  for (std::size_t i = 0; i < keys.size(); ++i)
+    share[static_cast<std::size_t>(own.owner(keys[i]))] += cost[i], total += cost[i];
   MPI_Allreduce(MPI_IN_PLACE, share.data(), size, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
   MPI_Allreduce(MPI_IN_PLACE, &total, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
   for (int r = 0; r < size; ++r)
-    EXPECT_NEAR(static_cast<double>(share[static_cast<std::size_t>(r)]), static_cast<double>(total) / size, 100.0) << "rank " << r;
+    EXPECT_NEAR(static_cast<double>(share[static_cast<std::size_t>(r)]),
+                static_cast<double>(total) / size, 100.0)
+        << "rank " << r;
 }
 
 TEST(Decomposition, ThousandRebalancesOfARandomCloudLoseNothing) {

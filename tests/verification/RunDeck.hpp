@@ -3,12 +3,12 @@
 #include "spall/io/Snapshot.hpp"
 
 #include <cstdlib>
-#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
 #include <string>
+#include <unistd.h>
 #include <vector>
 
 namespace spall::verification {

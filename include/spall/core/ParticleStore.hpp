@@ -8,8 +8,8 @@
 #include "spall/core/Types.hpp"
 
 #include <cstddef>
-#include <cstring>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <span>
 #include <stdexcept>

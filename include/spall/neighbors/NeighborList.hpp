@@ -69,8 +69,8 @@ public:
       double total = 1.0;
       for (int d = 0; d < Dim; ++d) {
         base_[d] = static_cast<std::int64_t>(std::floor(lo[d] / size));
-        n_[d] = std::max<std::int64_t>(
-            1, static_cast<std::int64_t>(std::floor(hi[d] / size)) - base_[d] + 1);
+        n_[d] = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::floor(hi[d] / size)) -
+                                              base_[d] + 1);
         total *= static_cast<double>(n_[d]);
       }
       if (total <= maxCells) break;

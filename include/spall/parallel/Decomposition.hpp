@@ -26,20 +26,20 @@ struct DecompositionConfig {
 };
 
 struct MigrationStats {
-  std::uint64_t moved = 0;     // particles that changed rank (global)
-  int maxRankDistance = 0;     // largest |owner - old rank| (global): domains crossed in one step
+  std::uint64_t moved = 0; // particles that changed rank (global)
+  int maxRankDistance = 0; // largest |owner - old rank| (global): domains crossed in one step
 };
 
 struct RebalanceReport {
   double imbalanceBefore = 1.0, imbalanceAfter = 1.0; // max/mean cost over ranks
-  std::int64_t metisEdgeCut = -1;                      // -1: SFC partition
+  std::int64_t metisEdgeCut = -1;                     // -1: SFC partition
   std::uint64_t moved = 0;
 };
 
 template <int Dim> class Decomposition {
 public:
-  Decomposition(MPI_Comm comm, DecompositionConfig config, Field<ParticleId> id,
-                Field<Vec<Dim>> x, Field<std::int32_t> cost);
+  Decomposition(MPI_Comm comm, DecompositionConfig config, Field<ParticleId> id, Field<Vec<Dim>> x,
+                Field<std::int32_t> cost);
 
   // Start-up: every rank generated the same full particle set; keeps an even slice by index and
   // then partitions by key (unit cost) and migrates.

@@ -10,9 +10,9 @@
 namespace spall::parallel {
 
 struct ExchangeResult {
-  std::vector<std::byte> data;          // received blocks, in source-rank order
-  std::vector<std::size_t> countFrom;   // bytes received from each rank
-  std::vector<std::size_t> offsetFrom;  // where each rank's block starts in data
+  std::vector<std::byte> data;         // received blocks, in source-rank order
+  std::vector<std::size_t> countFrom;  // bytes received from each rank
+  std::vector<std::size_t> offsetFrom; // where each rank's block starts in data
 };
 
 // `send` holds the blocks for ranks 0..size-1 back to back; `countTo[r]` bytes go to rank r.

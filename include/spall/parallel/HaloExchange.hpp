@@ -28,7 +28,7 @@ struct PeriodicAxis {
 
 template <int Dim> class HaloExchange {
 public:
-  static constexpr int kBoxes = 32;
+  static constexpr int kBoxes = 128;
 
   HaloExchange(MPI_Comm comm, std::vector<PeriodicAxis> periodic);
 
@@ -56,10 +56,10 @@ private:
   MPI_Comm comm_;
   int rank_ = 0, size_ = 1;
   std::vector<PeriodicAxis> periodic_;
-  std::vector<Box> boxes_;      // kBoxes per rank, all ranks; empty boxes have lo > hi
-  std::vector<Box> rankBox_;    // union per rank
-  std::vector<std::vector<std::uint32_t>> rows_;  // owned rows to send, per rank
-  std::vector<std::vector<std::uint8_t>> codes_;  // periodic shift code of each, per rank
+  std::vector<Box> boxes_;   // kBoxes per rank, all ranks; empty boxes have lo > hi
+  std::vector<Box> rankBox_; // union per rank
+  std::vector<std::vector<std::uint32_t>> rows_; // owned rows to send, per rank
+  std::vector<std::vector<std::uint8_t>> codes_; // periodic shift code of each, per rank
   std::vector<std::size_t> recvCount_;
   std::size_t first_ = 0, received_ = 0, sentTotal_ = 0;
 };

@@ -39,9 +39,9 @@ std::vector<std::uint64_t> weightedSplitters(MPI_Comm comm, std::span<const std:
 // The graph of SFC cells handed to METIS_PartGraphKway: vertices are the occupied cells (key >>
 // shift), weighted by cost; edges carry the number of interacting particle pairs between cells.
 struct CellGraph {
-  int shift = 0;                       // cell = key >> shift
-  std::vector<std::uint64_t> cells;    // sorted cell ids
-  std::vector<std::uint64_t> weight;   // per cell
+  int shift = 0;                                           // cell = key >> shift
+  std::vector<std::uint64_t> cells;                        // sorted cell ids
+  std::vector<std::uint64_t> weight;                       // per cell
   std::vector<std::uint64_t> edgeFrom, edgeTo, edgeWeight; // undirected, as listed
 };
 

@@ -19,7 +19,9 @@ enum class Curve { Hilbert, Morton };
 
 inline constexpr std::uint64_t kKeyEnd = std::uint64_t{1} << 63;
 
-template <int Dim> constexpr int keyBits() { return Dim == 1 ? 63 : Dim == 2 ? 31 : 21; }
+template <int Dim> constexpr int keyBits() {
+  return Dim == 1 ? 63 : Dim == 2 ? 31 : 21;
+}
 
 // Morton key of integer coordinates with `bits` bits each: bit b of axis d goes to b*Dim + d.
 template <int Dim>
@@ -27,7 +29,8 @@ std::uint64_t mortonKey(const std::array<std::uint64_t, Dim>& c, int bits = keyB
   if constexpr (Dim == 1) return c[0];
   std::uint64_t key = 0;
   for (int b = bits - 1; b >= 0; --b)
-    for (int d = Dim - 1; d >= 0; --d) key = (key << 1) | ((c[static_cast<std::size_t>(d)] >> b) & 1u);
+    for (int d = Dim - 1; d >= 0; --d)
+      key = (key << 1) | ((c[static_cast<std::size_t>(d)] >> b) & 1u);
   return key;
 }
 
@@ -50,7 +53,8 @@ std::uint64_t hilbertKey(std::array<std::uint64_t, Dim> X, int bits = keyBits<Di
     }
   }
   // Gray encode.
-  for (int i = 1; i < Dim; ++i) X[static_cast<std::size_t>(i)] ^= X[static_cast<std::size_t>(i - 1)];
+  for (int i = 1; i < Dim; ++i)
+    X[static_cast<std::size_t>(i)] ^= X[static_cast<std::size_t>(i - 1)];
   std::uint64_t t = 0;
   for (std::uint64_t Q = M; Q > 1; Q >>= 1)
     if (X[Dim - 1] & Q) t ^= Q - 1;
@@ -62,8 +66,9 @@ std::uint64_t hilbertKey(std::array<std::uint64_t, Dim> X, int bits = keyBits<Di
   return key;
 }
 
-// Keys of positions inside a fixed cube (the box's largest extent from its low corner); positions outside are clamped to its faces, so a particle
-// that flew out of the box still gets a valid key (the box is refreshed at each rebalance).
+// Keys of positions inside a fixed cube (the box's largest extent from its low corner); positions
+// outside are clamped to its faces, so a particle that flew out of the box still gets a valid key
+// (the box is refreshed at each rebalance).
 template <int Dim> class KeyMap {
 public:
   KeyMap() = default;
@@ -83,8 +88,7 @@ public:
       // The negated test also sends NaN to 0: a broken particle still gets an owner and is
       // then reported by the run's finiteness check, by id.
       c[static_cast<std::size_t>(d)] =
-          !(t > 0.0) ? 0
-                     : std::min(maxCoord, static_cast<std::uint64_t>(std::min(t, 1.8e19)));
+          !(t > 0.0) ? 0 : std::min(maxCoord, static_cast<std::uint64_t>(std::min(t, 1.8e19)));
     }
     return curve_ == Curve::Hilbert ? hilbertKey<Dim>(c) : mortonKey<Dim>(c);
   }

@@ -33,7 +33,8 @@ template <int Dim> void checkCurve(int bits, bool hilbert) {
   const auto cells = grid<Dim>(bits);
   std::vector<int> at(cells.size(), -1);
   for (std::size_t i = 0; i < cells.size(); ++i) {
-    const std::uint64_t k = hilbert ? hilbertKey<Dim>(cells[i], bits) : mortonKey<Dim>(cells[i], bits);
+    const std::uint64_t k =
+        hilbert ? hilbertKey<Dim>(cells[i], bits) : mortonKey<Dim>(cells[i], bits);
     ASSERT_LT(k, cells.size());
     ASSERT_EQ(at[k], -1) << "key " << k << " given twice";
     at[k] = static_cast<int>(i);
@@ -53,8 +54,12 @@ template <int Dim> void checkCurve(int bits, bool hilbert) {
 
 } // namespace
 
-TEST(SfcKeys, Hilbert2DBijectiveAndAdjacent) { checkCurve<2>(5, true); }
-TEST(SfcKeys, Hilbert3DBijectiveAndAdjacent) { checkCurve<3>(4, true); }
+TEST(SfcKeys, Hilbert2DBijectiveAndAdjacent) {
+  checkCurve<2>(5, true);
+}
+TEST(SfcKeys, Hilbert3DBijectiveAndAdjacent) {
+  checkCurve<3>(4, true);
+}
 TEST(SfcKeys, Morton2DAnd3DBijective) {
   checkCurve<2>(5, false);
   checkCurve<3>(4, false);
