@@ -233,7 +233,8 @@ private:
   }
   void growTo(std::size_t n) {
     if (n > capacity_) {
-      capacity_ = std::max<std::size_t>(n, capacity_ + capacity_ / 2 + 16);
+      // Modest growth: ghost counts settle within a few steps, and every column pays the slack.
+      capacity_ = std::max<std::size_t>(n, capacity_ + capacity_ / 8 + 16);
       for (auto& c : columns_) c->resize(capacity_);
     }
     size_ = n;
