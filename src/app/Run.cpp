@@ -228,7 +228,7 @@ private:
         const neighbors::CanonicalOrder<Dim> order{store_[f_.id], store_[f_.x], canonicalH()};
         if (!neighbors::buildNeighborList<Dim>(store_[f_.x], store_[f_.h], store_.localCount(),
                                                solver_->support(), grid_, neighbors_, &order))
-          neighbors::sortRowsCanonically<Dim>(store_[f_.id], store_[f_.x], neighbors_);
+          canonicalLost_ = true;
       } else {
         neighbors::buildNeighborList<Dim>(store_[f_.x], store_[f_.h], store_.localCount(),
                                           solver_->support(), grid_, neighbors_);
@@ -565,6 +565,8 @@ private:
     const double pairs = mpi_.sum(static_cast<double>(pairCount_));
     const double ghostFraction = mpi_.max(ghostFractionMax_);
     const std::uint64_t crossPairs = mpi_.sum(crossPairs_) / 2;
+    const bool reproducible =
+        deck_.decomposition.reproducible && mpi_.max(canonicalLost_ ? 1.0 : 0.0) == 0.0;
     const double meanNeighbors =
         step_ + 1 > 0 ? pairs / (static_cast<double>(step_ + 1) *
                                  std::max<double>(1.0, static_cast<double>(particles())))
@@ -592,6 +594,9 @@ private:
           deck_.decomposition.curve, deck_.decomposition.partitioner, mpi_.size(), rebalances_,
           imbalance_, 100.0 * ghostFraction, crossPairs, migratedTotal_, maxRankDistance_,
           metisEdgeCut_ >= 0 ? fmt::format(" | METIS edge cut {} pairs", metisEdgeCut_) : ""));
+    if (deck_.decomposition.reproducible && !reproducible)
+      lines.push_back("note: a rank's particles were too sparse for the canonical neighbor grid; "
+                      "other rank counts agree with this run to round-off, not bit for bit");
     lines.push_back(
         fmt::format("output in {} (open snapshots/series.xmf in ParaView)", dir_.string()));
     log.summary(lines);
@@ -610,7 +615,8 @@ private:
         "\"boundaries\": {:.6f}, \"exchange\": {:.6f}, \"output\": {:.6f}, \"other\": {:.6f}}},\n"
         "  \"decomposition\": {{\"curve\": \"{}\", \"partitioner\": \"{}\", \"rebalances\": {}, "
         "\"imbalance\": {:.6f}, \"ghost_fraction_max\": {:.6f}, \"migrated\": {}, "
-        "\"max_rank_distance\": {}, \"pairs_across_ranks\": {}, \"metis_edge_cut\": {}}},\n"
+        "\"max_rank_distance\": {}, \"pairs_across_ranks\": {}, \"metis_edge_cut\": {}, "
+        "\"reproducible\": {}}},\n"
         "  \"conservation\": {{\"mass_relative\": {:.6e}, \"momentum_relative\": {:.6e}, "
         "\"energy_relative\": {:.6e}}}\n}}\n",
         jsonEscape(options.deckPath), jsonEscape(deck_.run.title), mpi_.size(), Dim, particles(),
@@ -621,7 +627,7 @@ private:
         phases_.neighbors, phases_.density, phases_.forces, phases_.integration, phases_.boundaries,
         phases_.exchange, phases_.output, std::max(0.0, wall - phaseSum), deck_.decomposition.curve,
         deck_.decomposition.partitioner, rebalances_, imbalance_, ghostFraction, migratedTotal_,
-        maxRankDistance_, crossPairs, metisEdgeCut_, massErr, momErr, energyErr);
+        maxRankDistance_, crossPairs, metisEdgeCut_, reproducible, massErr, momErr, energyErr);
   }
 
   static std::string jsonEscape(const std::string& s) {
@@ -653,6 +659,7 @@ private:
   double imbalance_ = 1.0, ghostFractionMax_ = 0.0;
   std::int64_t metisEdgeCut_ = -1;
   std::uint64_t crossPairs_ = 0;
+  bool canonicalLost_ = false; // a coarsened grid broke the rank-count-independent sum order
   RunLog* log_ = nullptr;
   neighbors::CellGrid<Dim> grid_;
   neighbors::NeighborList neighbors_;

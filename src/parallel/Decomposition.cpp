@@ -1,6 +1,6 @@
 #include "spall/parallel/Decomposition.hpp"
 
-#include "spall/parallel/Exchange.hpp"
+#include "spall/parallel/RowExchange.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -76,35 +76,13 @@ template <int Dim> MigrationStats Decomposition<Dim>::moveToOwners(ParticleStore
       farthest = std::max(farthest, std::abs(r - rank_));
     }
   }
-  const std::size_t rowBytes = s.bytesPerParticle();
-  std::vector<std::size_t> bytesTo(static_cast<std::size_t>(size_));
-  std::size_t total = 0;
-  for (int r = 0; r < size_; ++r) {
-    bytesTo[static_cast<std::size_t>(r)] = to[static_cast<std::size_t>(r)].size() * rowBytes;
-    total += bytesTo[static_cast<std::size_t>(r)];
-  }
-  std::vector<std::byte> buffer(total);
-  std::size_t at = 0;
-  for (int r = 0; r < size_; ++r) {
-    const auto& rows = to[static_cast<std::size_t>(r)];
-    for (const auto& c : s.columns()) {
-      c->pack(rows, buffer.data() + at);
-      at += rows.size() * c->bytesPerParticle();
-    }
-  }
-  const ExchangeResult in = exchangeBytes(comm_, buffer, bytesTo);
+  const auto columns = allColumns(s);
+  const ExchangeResult in = sendRows(comm_, s, columns, to);
   std::uint64_t moved = n - stay.size();
   s.keepLocal(stay);
-  std::size_t row = s.appendLocal(in.data.size() / std::max<std::size_t>(rowBytes, 1));
-  for (int r = 0; r < size_; ++r) {
-    const std::size_t count = in.countFrom[static_cast<std::size_t>(r)] / rowBytes;
-    const std::byte* p = in.data.data() + in.offsetFrom[static_cast<std::size_t>(r)];
-    for (const auto& c : s.columns()) {
-      c->unpack(p, row, count);
-      p += count * c->bytesPerParticle();
-    }
-    row += count;
-  }
+  const std::size_t first =
+      s.appendLocal(in.data.size() / std::max<std::size_t>(s.bytesPerParticle(), 1));
+  receiveRows(s, columns, in, first);
   MPI_Allreduce(MPI_IN_PLACE, &moved, 1, MPI_UINT64_T, MPI_SUM, comm_);
   MPI_Allreduce(MPI_IN_PLACE, &farthest, 1, MPI_INT, MPI_MAX, comm_);
   return {moved, farthest};

@@ -1,6 +1,7 @@
 #include "spall/parallel/HaloExchange.hpp"
 
 #include "spall/parallel/Exchange.hpp"
+#include "spall/parallel/RowExchange.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -131,41 +132,6 @@ void HaloExchange<Dim>::plan(std::span<const Vec<Dim>> x, std::span<const double
 }
 
 template <int Dim>
-void HaloExchange<Dim>::send(ParticleStore& s, std::span<const std::size_t> fields,
-                             std::size_t first) {
-  std::size_t rowBytes = 0;
-  for (std::size_t f : fields) rowBytes += s.columns()[f]->bytesPerParticle();
-  std::vector<std::size_t> bytesTo(static_cast<std::size_t>(size_));
-  std::size_t total = 0;
-  for (int r = 0; r < size_; ++r) {
-    bytesTo[static_cast<std::size_t>(r)] = rows_[static_cast<std::size_t>(r)].size() * rowBytes;
-    total += bytesTo[static_cast<std::size_t>(r)];
-  }
-  std::vector<std::byte> buffer(total);
-  std::size_t at = 0;
-  for (int r = 0; r < size_; ++r) {
-    const auto& rows = rows_[static_cast<std::size_t>(r)];
-    for (std::size_t f : fields) {
-      const ColumnBase& c = *s.columns()[f];
-      c.pack(rows, buffer.data() + at);
-      at += rows.size() * c.bytesPerParticle();
-    }
-  }
-  const ExchangeResult in = exchangeBytes(comm_, buffer, bytesTo);
-  std::size_t row = first;
-  for (int r = 0; r < size_; ++r) {
-    const std::size_t count = recvCount_[static_cast<std::size_t>(r)];
-    const std::byte* p = in.data.data() + in.offsetFrom[static_cast<std::size_t>(r)];
-    for (std::size_t f : fields) {
-      ColumnBase& c = *s.columns()[f];
-      c.unpack(p, row, count);
-      p += count * c.bytesPerParticle();
-    }
-    row += count;
-  }
-}
-
-template <int Dim>
 void HaloExchange<Dim>::build(ParticleStore& s, Field<Vec<Dim>> xf, std::span<const double> reach,
                               std::span<const std::size_t> fields) {
   s.dropGhosts();
@@ -175,20 +141,16 @@ void HaloExchange<Dim>::build(ParticleStore& s, Field<Vec<Dim>> xf, std::span<co
   plan(x, reach.first(n));
 
   std::vector<std::size_t> countTo(static_cast<std::size_t>(size_));
-  sentTotal_ = 0;
-  for (int r = 0; r < size_; ++r) {
+  for (int r = 0; r < size_; ++r)
     countTo[static_cast<std::size_t>(r)] = rows_[static_cast<std::size_t>(r)].size();
-    sentTotal_ += countTo[static_cast<std::size_t>(r)];
-  }
   // The shift codes double as the counts' exchange.
   std::vector<std::byte> codes;
   for (const auto& c : codes_)
     for (std::uint8_t v : c) codes.push_back(static_cast<std::byte>(v));
   const ExchangeResult in = exchangeBytes(comm_, codes, countTo);
-  recvCount_ = in.countFrom;
   received_ = in.data.size();
   first_ = s.appendGhosts(received_);
-  send(s, fields, first_);
+  refresh(s, fields);
 
   bool sentPosition = false;
   for (std::size_t f : fields) sentPosition = sentPosition || f == xf.index;
@@ -202,7 +164,7 @@ void HaloExchange<Dim>::build(ParticleStore& s, Field<Vec<Dim>> xf, std::span<co
 
 template <int Dim>
 void HaloExchange<Dim>::refresh(ParticleStore& s, std::span<const std::size_t> fields) {
-  send(s, fields, first_);
+  receiveRows(s, fields, sendRows(comm_, s, fields, rows_), first_);
 }
 
 template class HaloExchange<1>;

@@ -156,7 +156,8 @@ private:
 // h (free surfaces, a blast's hot core) do not coarsen the search for all. With `order` the grid
 // is sized by order->hRef and every row comes out in a rank-count-independent order (cells in a
 // fixed order, members sorted within cells, pairs from the other side sorted); returns false if
-// that could not be kept (a coarsened grid), and the caller then sorts the rows.
+// that could not be kept (a coarsened grid): the rows are then still deterministic for this rank
+// count, but another rank count may add them in another order.
 template <int Dim>
 bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h, std::size_t owned,
                        double support, CellGrid<Dim>& grid, NeighborList& out,
@@ -216,34 +217,6 @@ bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h, s
     for (std::uint64_t k = end; k-- > begin;) out.indices[--write] = out.indices[k];
   }
   return kept || !order;
-}
-
-// Sorts every row by the canonical order: the fallback when buildNeighborList could not keep its
-// rows canonical (~20x the cost of the canonical build's own sorting).
-template <int Dim>
-void sortRowsCanonically(std::span<const ParticleId> id, std::span<const Vec<Dim>> x,
-                         NeighborList& nl) {
-  const std::size_t n = id.size();
-  std::vector<std::uint32_t> byKey(n);
-  for (std::size_t i = 0; i < n; ++i) byKey[i] = static_cast<std::uint32_t>(i);
-  std::sort(byKey.begin(), byKey.end(), [&](std::uint32_t a, std::uint32_t b) {
-    if (id[a] != id[b]) return id[a] < id[b];
-    for (int d = 0; d < Dim; ++d)
-      if (x[a][d] != x[b][d]) return x[a][d] < x[b][d];
-    return false; // the same particle image twice: identical values, any order will do
-  });
-  std::vector<std::uint32_t> rank(n);
-  for (std::size_t k = 0; k < n; ++k) rank[byKey[k]] = static_cast<std::uint32_t>(k);
-  std::vector<std::uint64_t> row;
-  const std::size_t rows = nl.offsets.empty() ? 0 : nl.offsets.size() - 1;
-  for (std::size_t i = 0; i < rows; ++i) {
-    const std::uint64_t b = nl.offsets[i], e = nl.offsets[i + 1];
-    row.resize(e - b);
-    for (std::uint64_t k = b; k < e; ++k)
-      row[k - b] = (std::uint64_t{rank[nl.indices[k]]} << 32) | nl.indices[k];
-    std::sort(row.begin(), row.end());
-    for (std::uint64_t k = b; k < e; ++k) nl.indices[k] = static_cast<std::uint32_t>(row[k - b]);
-  }
 }
 
 } // namespace spall::neighbors

@@ -41,7 +41,6 @@ public:
   void refresh(ParticleStore& s, std::span<const std::size_t> fields);
 
   std::size_t ghosts() const { return received_; }
-  std::size_t sent() const { return sentTotal_; }
 
 private:
   struct Box {
@@ -51,7 +50,6 @@ private:
   void describeDomains(std::span<const Vec<Dim>> x, std::span<const double> reach);
   void plan(std::span<const Vec<Dim>> x, std::span<const double> reach);
   Vec<Dim> shiftOf(std::uint8_t code) const;
-  void send(ParticleStore& s, std::span<const std::size_t> fields, std::size_t first);
 
   MPI_Comm comm_;
   int rank_ = 0, size_ = 1;
@@ -60,8 +58,7 @@ private:
   std::vector<Box> rankBox_; // union per rank
   std::vector<std::vector<std::uint32_t>> rows_; // owned rows to send, per rank
   std::vector<std::vector<std::uint8_t>> codes_; // periodic shift code of each, per rank
-  std::vector<std::size_t> recvCount_;
-  std::size_t first_ = 0, received_ = 0, sentTotal_ = 0;
+  std::size_t first_ = 0, received_ = 0;
 };
 
 } // namespace spall::parallel

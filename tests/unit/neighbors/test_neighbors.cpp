@@ -1,6 +1,5 @@
 // The cell-list neighbor search against brute force, with unequal h and ghosts.
 #include "spall/neighbors/NeighborList.hpp"
-#include "spall/neighbors/SpatialOrder.hpp"
 
 #include <gtest/gtest.h>
 #include <random>
@@ -44,14 +43,4 @@ TEST(NeighborList, MatchesBruteForce2D) {
 }
 TEST(NeighborList, MatchesBruteForce3D) {
   compareWithBruteForce<3>(3000, 2500);
-}
-
-TEST(SpatialOrder, IsAPermutation) {
-  std::mt19937_64 rng(7);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::vector<Vec<3>> x(1000);
-  for (auto& p : x) p = Vec<3>(u(rng), u(rng), u(rng));
-  auto order = neighbors::mortonOrder<3>(x);
-  std::sort(order.begin(), order.end());
-  for (std::uint32_t i = 0; i < order.size(); ++i) ASSERT_EQ(order[i], i);
 }
