@@ -1,10 +1,13 @@
 #include "spall/app/Run.hpp"
 
 #include "spall/app/BodyGenerator.hpp"
+#include "spall/app/CheckpointFiles.hpp"
 #include "spall/app/RunLog.hpp"
+#include "spall/app/StopSignals.hpp"
 #include "spall/app/SystemInfo.hpp"
 #include "spall/diagnostics/Conservation.hpp"
 #include "spall/diagnostics/Probes.hpp"
+#include "spall/io/Checkpoint.hpp"
 #include "spall/io/CsvLog.hpp"
 #include "spall/io/Snapshot.hpp"
 #include "spall/io/Xdmf.hpp"
@@ -21,6 +24,7 @@
 #include <fstream>
 #include <limits>
 #include <numbers>
+#include <sstream>
 
 namespace spall::app {
 
@@ -74,7 +78,7 @@ const char* densityName(DensityMethod d) {
 // Wall time by phase, for the closing summary and tools/bench.
 struct Phases {
   double neighbors = 0, density = 0, forces = 0, integration = 0, boundaries = 0, exchange = 0,
-         output = 0;
+         output = 0, checkpoint = 0;
   template <class F> static void time(double& slot, F&& f) {
     const auto t0 = Clock::now();
     f();
@@ -93,19 +97,12 @@ public:
                                              "work and is not available yet",
                                              b.name));
     }
-    if (deck.checkpoint && mpi.root())
-      deferredWarnings_.push_back(
-          "[checkpoint] is accepted but not written yet: checkpoint/restart "
-          "arrives with its own issue");
     baselineRss_ = residentBytes();
     f_.registerIn(store_, deck.solver.artificial_viscosity.balsara);
     // Neighbors per particle from the last search: the load-balancing cost. Migrates, never
     // written.
-    cost_ = store_.add<std::int32_t>("cost", 0);
-    // Every rank generates the same particles (ids, jitter and energy deposits therefore do not
-    // depend on the rank count), keeps a slice and hands the rest to their owners.
-    bodies_ = generateBodies<Dim>(deck, eos_, store_, f_);
-    applyEnergySources<Dim>(deck, store_, f_);
+    // Checkpointed: a restart on the same rank count then rebalances exactly as the run would have.
+    cost_ = store_.add<std::int32_t>("cost", kCheckpoint);
     parallel::DecompositionConfig dc;
     dc.curve =
         deck.decomposition.curve == "morton" ? parallel::Curve::Morton : parallel::Curve::Hilbert;
@@ -114,8 +111,6 @@ public:
     dc.imbalanceThreshold = deck.decomposition.imbalance_threshold;
     decomposition_ =
         std::make_unique<parallel::Decomposition<Dim>>(mpi.comm(), dc, f_.id, f_.x, cost_);
-    decomposition_->distributeInitial(store_);
-    totalParticles_ = mpi.sum(static_cast<std::uint64_t>(store_.localCount()));
     solver_ = solvers::makeSolver<Dim>({deck.solver, eos_}, store_, f_);
     boundaries_ = std::make_unique<solvers::Boundaries<Dim>>(deck.boundaries, f_);
     halo_ = std::make_unique<parallel::HaloExchange<Dim>>(mpi.comm(), boundaries_->periodicAxes());
@@ -129,7 +124,73 @@ public:
     refreshFields_ = {f_.rho.index, f_.p.index, f_.cs.index};
     probes_ = std::make_unique<diagnostics::Probes<Dim>>(deck.probes);
     resolveOutputFields();
+  }
+
+  // A new run: every rank generates the same particles (ids, jitter and energy deposits
+  // therefore do not depend on the rank count), keeps a slice and hands the rest to their owners.
+  void generate() {
+    bodies_ = generateBodies<Dim>(deck_, eos_, store_, f_);
+    applyEnergySources<Dim>(deck_, store_, f_);
+    decomposition_->distributeInitial(store_);
+    totalParticles_ = mpi_.sum(static_cast<std::uint64_t>(store_.localCount()));
     solver_->equationOfState();
+  }
+
+  // A continued run: the first of `candidates` that reads back completely. Throws
+  // CheckpointError when none does, UsageError when the checkpoint belongs to another deck.
+  void resume(const RestartCandidates& candidates) {
+    if (candidates.files.empty())
+      throw io::CheckpointError(
+          candidates.problem.empty()
+              ? "no checkpoint to restart from"
+              : fmt::format("cannot restart: {} and there is no complete checkpoint beside it",
+                            candidates.problem));
+    if (!candidates.problem.empty())
+      deferredWarnings_.push_back(candidates.problem + "; falling back to the newest complete "
+                                                       "checkpoint");
+    std::string skipped;
+    for (std::size_t k = 0; k < candidates.files.size(); ++k) {
+      const std::string path = candidates.files[k].string();
+      try {
+        const auto t0 = Clock::now();
+        const io::CheckpointHeader header = io::readCheckpointHeader(mpi_.comm(), path);
+        if (header.dimension != Dim)
+          throw UsageError(
+              fmt::format("{} holds a {}D run; the deck is {}D", path, header.dimension, Dim));
+        const auto diffs = deckPhysicsDifferences(header.state.text("deck"), deck_.resolved_toml);
+        if (!diffs.empty()) {
+          std::string list;
+          for (std::size_t d = 0; d < diffs.size() && d < 12; ++d) list += "\n  " + diffs[d];
+          if (diffs.size() > 12) list += fmt::format("\n  ... and {} more", diffs.size() - 12);
+          throw UsageError(fmt::format(
+              "{} was written by a different deck; a restart may change only run.end_time, "
+              "run.max_steps, run.title and the [output], [checkpoint] and [decomposition] "
+              "tables:{}",
+              path, list));
+        }
+        const bool sameLayout =
+            static_cast<int>(header.rankCounts.size()) == mpi_.size() &&
+            header.state.text("decomposition_curve") == deck_.decomposition.curve &&
+            header.state.text("decomposition_partitioner") == deck_.decomposition.partitioner;
+        const std::uint64_t bytes =
+            io::readCheckpointParticles(mpi_.comm(), header, store_, sameLayout);
+        restoreState(header, sameLayout);
+        checkpointReadSeconds_ = std::chrono::duration<double>(Clock::now() - t0).count();
+        checkpointReadBytes_ = mpi_.sum(bytes);
+        resumedFrom_ = path;
+        if (!skipped.empty())
+          deferredWarnings_.push_back(fmt::format("skipped unusable checkpoints:{}", skipped));
+        return;
+      } catch (const io::CheckpointError& e) {
+        if (!candidates.fallback) throw;
+        skipped += fmt::format("\n  {}", e.what());
+        if (k + 1 == candidates.files.size())
+          throw io::CheckpointError(fmt::format(
+              "cannot restart: no complete checkpoint in {}{}{}",
+              candidates.files.front().parent_path().string(),
+              candidates.problem.empty() ? "" : " (" + candidates.problem + ")", skipped));
+      }
+    }
   }
 
   // All ranks' owned particles.
@@ -165,28 +226,84 @@ public:
     const auto wall0 = Clock::now();
     for (const auto& w : deferredWarnings_) log.warning(w);
     banner(log, dir);
+    dir_ = dir;
+    const bool resumed = !resumedFrom_.empty();
+    if (resumed) {
+      // A chain restarted from a checkpoint in another directory lacks the earlier snapshots
+      // here: series.xmf lists only what this directory holds.
+      std::vector<char> keep(series_.size(), 1);
+      if (mpi_.root())
+        for (std::size_t k = 0; k < series_.size(); ++k)
+          keep[k] = fs::exists(dir / "snapshots" / series_[k].second) ? 1 : 0;
+      MPI_Bcast(keep.data(), static_cast<int>(keep.size()), MPI_CHAR, 0, mpi_.comm());
+      std::size_t kept = 0;
+      for (std::size_t k = 0; k < series_.size(); ++k)
+        if (keep[k]) series_[kept++] = series_[k];
+      if (kept < series_.size())
+        log.note(fmt::format("{} earlier snapshot{} of this chain are not in {}: series.xmf "
+                             "lists the ones that are",
+                             series_.size() - kept, series_.size() - kept > 1 ? "s" : "",
+                             (dir / "snapshots").string()));
+      series_.resize(kept);
+    }
     if (mpi_.root()) {
       fs::create_directories(dir / "snapshots");
+      fs::create_directories(dir / "checkpoints");
       std::ofstream(dir / "deck.toml") << deck_.resolved_toml;
-      history_ = io::CsvLog((dir / "history.csv").string(),
-                            "step,time,dt,particles,mass,momentum_x,momentum_y,momentum_z,"
-                            "kinetic_energy,internal_energy,total_energy,wall_seconds,"
-                            "imbalance,ghosts,migrated");
-      if (!probes_->empty())
-        probesCsv_ = io::CsvLog((dir / "probes.csv").string(), "time,probe,field,value");
+      const std::string historyHeader =
+          "step,time,dt,particles,mass,momentum_x,momentum_y,momentum_z,kinetic_energy,"
+          "internal_energy,total_energy,wall_seconds,imbalance,ghosts,migrated";
+      if (resumed) {
+        // Whatever a crashed run wrote after its checkpoint goes; the rest continues.
+        truncateHistory(dir / "history.csv", step_);
+        truncateProbes(dir / "probes.csv", time_);
+        removeSnapshotsFrom(dir / "snapshots", snapshotIndex_);
+        io::writeSeriesXdmf((dir / "snapshots" / "series.xmf").string(), series_);
+        removeStaleTemporaries(dir / "checkpoints");
+        history_ = io::CsvLog::append((dir / "history.csv").string(), historyHeader);
+        if (!probes_->empty())
+          probesCsv_ = io::CsvLog::append((dir / "probes.csv").string(), "time,probe,field,value");
+      } else {
+        history_ = io::CsvLog((dir / "history.csv").string(), historyHeader);
+        if (!probes_->empty())
+          probesCsv_ = io::CsvLog((dir / "probes.csv").string(), "time,probe,field,value");
+      }
     }
     MPI_Barrier(mpi_.comm());
-    dir_ = dir;
+    if (resumed)
+      log.note(fmt::format(
+          "restarted from {} at step {} (t = {:.6g} s){}; {:.1f} MB read in {:.2f} s", resumedFrom_,
+          step_, time_,
+          checkpointRanks_ == mpi_.size() ? ""
+                                          : fmt::format(", written on {} rank{}", checkpointRanks_,
+                                                        checkpointRanks_ > 1 ? "s" : ""),
+          checkpointReadBytes_ / 1e6, checkpointReadSeconds_));
 
-    probes_->attach(store_, f_, mpi_);
-    evaluate();
-    double dt = nextTimeStep();
-    totals0_ = diagnostics::computeTotals(store_, f_, mpi_);
-    record(0.0, 0, wall0);
-    writeSnapshot();
+    StopSignals signals;
+    double dt = 0.0;
+    startStep_ = step_;
+    if (resumed) {
+      // The rates and the time step of the checkpointed step: no evaluation here, so the run
+      // continues exactly as the uninterrupted one.
+      dt = resumeDt_;
+      last_ = diagnostics::computeTotals(store_, f_, mpi_);
+    } else {
+      probes_->attach(store_, f_, mpi_);
+      evaluate();
+      dt = nextTimeStep();
+      totals0_ = diagnostics::computeTotals(store_, f_, mpi_);
+      record(0.0, 0, wall0);
+      writeSnapshot();
+    }
+    lastCheckpointWall_ = wall0;
 
     const double end = deck_.run.end_time;
     double lastProgress = -1.0;
+    int stopSignal = 0;
+    if (resumed && !(time_ < end * (1.0 - 1e-12) && step_ < deck_.run.max_steps))
+      log.note(fmt::format("the checkpoint is at the end of this run (t = {:.6g} s, step {}): "
+                           "nothing to do; extend it with --set run.end_time=...",
+                           time_, step_));
     while (time_ < end * (1.0 - 1e-12) && step_ < deck_.run.max_steps) {
       dt = clampToTargets(dt);
       advance(dt);
@@ -199,11 +316,28 @@ public:
         lastProgress = wall;
       }
       dt = nextTimeStep();
+      // Checkpoint triggers, agreed on by all ranks: a signal on any rank, rank 0's wall clock.
+      int due[2] = {StopSignals::pending(), 0};
+      if (mpi_.root() && deck_.checkpoint && deck_.checkpoint->every_wall_seconds > 0.0)
+        due[1] = std::chrono::duration<double>(Clock::now() - lastCheckpointWall_).count() >=
+                 deck_.checkpoint->every_wall_seconds;
+      MPI_Allreduce(MPI_IN_PLACE, due, 2, MPI_INT, MPI_MAX, mpi_.comm());
+      const bool stepsDue = deck_.checkpoint && deck_.checkpoint->every_steps > 0 &&
+                            step_ % deck_.checkpoint->every_steps == 0;
+      if (due[0] || due[1] || stepsDue) checkpoint(dt, wall0);
+      if (due[0]) {
+        stopSignal = due[0];
+        break;
+      }
     }
-    if (lastSnapshotStep_ != step_) writeSnapshot();
+    if (!stopSignal) {
+      if (lastSnapshotStep_ != step_) writeSnapshot();
+      // The end of a run is a checkpoint too: a chain extends it with a later end time.
+      if (lastCheckpointStep_ != step_) checkpoint(dt, wall0);
+    }
     history_.flush();
     probesCsv_.flush();
-    finish(log, options, wall0);
+    finish(log, options, wall0, stopSignal);
     log_ = nullptr;
   }
 
@@ -238,6 +372,7 @@ private:
         cost[i] = static_cast<std::int32_t>(1 + neighbors_.offsets[i + 1] - neighbors_.offsets[i]);
     });
     pairCount_ += neighbors_.pairs();
+    ++evaluations_;
     ghostCount_ = halo_->ghosts();
     if (mpi_.size() > 1 && step_ % 10 == 0) {
       // Interacting pairs whose partner lives on another rank (or is a periodic image): the
@@ -423,6 +558,151 @@ private:
                     names[fieldCode], first, step_, time_));
   }
 
+  // ---- checkpoints ------------------------------------------------------------------------------
+  int checkpointKeep() const { return deck_.checkpoint ? deck_.checkpoint->keep : 2; }
+
+  // Writes ckpt_<step>.h5 (atomically), then points `latest` at it, then prunes old ones. The
+  // logs are flushed first, so every row up to this step is on disk before the checkpoint is.
+  void checkpoint(double dtNext, Clock::time_point wall0) {
+    Phases::time(phases_.checkpoint, [&] {
+      history_.flush();
+      probesCsv_.flush();
+      const std::string name = checkpointFileName(step_);
+      const fs::path ckDir = dir_ / "checkpoints";
+      const double wall = std::chrono::duration<double>(Clock::now() - wall0).count();
+      const auto w =
+          io::writeCheckpoint(mpi_.comm(), (ckDir / name).string(), store_, time_, step_, Dim,
+                              BuildInfo::version(), saveState(dtNext, wallOffset_ + wall));
+      int ok = 1;
+      std::string error;
+      if (mpi_.root()) {
+        try {
+          publishLatest(ckDir, name);
+          pruneCheckpoints(ckDir, checkpointKeep());
+        } catch (const std::exception& e) {
+          ok = 0;
+          error = e.what();
+        }
+      }
+      MPI_Bcast(&ok, 1, MPI_INT, 0, mpi_.comm());
+      if (!ok) throw RunError(mpi_.root() ? error : "updating checkpoints/latest failed on rank 0");
+      ++checkpointsWritten_;
+      checkpointBytes_ = w.bytes;
+      checkpointWriteSeconds_ += w.seconds;
+      checkpointWriteBytes_ += w.bytes;
+      lastCheckpointStep_ = step_;
+      lastCheckpointWall_ = Clock::now();
+      if (log_)
+        log_->note(fmt::format("checkpoint {} at step {}: {:.1f} MB in {:.2f} s ({:.0f} MB/s)",
+                               (fs::path("checkpoints") / name).string(), step_, w.bytes / 1e6,
+                               w.seconds, w.seconds > 0 ? w.bytes / 1e6 / w.seconds : 0.0));
+    });
+  }
+
+  // Everything besides the particle fields that the run needs to continue exactly: identical
+  // on every rank (the checkpoint writer stores rank 0's copy).
+  io::CheckpointState saveState(double dtNext, double wall) const {
+    io::CheckpointState st;
+    st.texts["deck"] = deck_.resolved_toml;
+    st.reals["dt"] = {dtNext};
+    st.reals["wall_seconds"] = {wall};
+    st.reals["next_snapshot_time"] = {nextSnapshotTime_};
+    const auto& t = totals0_;
+    st.reals["initial_totals"] = {
+        t.mass,     t.momentum[0],      t.momentum[1],      t.momentum[2],     t.kinetic,
+        t.internal, t.momentumScale[0], t.momentumScale[1], t.momentumScale[2]};
+    st.integers["snapshot_index"] = {snapshotIndex_};
+    st.integers["last_snapshot_step"] = {lastSnapshotStep_};
+    std::vector<double> times;
+    std::string files;
+    for (const auto& [time, file] : series_) {
+      times.push_back(time);
+      files += file + "\n";
+    }
+    st.reals["snapshot_times"] = times;
+    st.texts["snapshot_files"] = files;
+    std::vector<std::int64_t> bodyParticles;
+    std::vector<double> bodyMass, bodySpacing;
+    for (const auto& b : bodies_) {
+      bodyParticles.push_back(static_cast<std::int64_t>(b.particles));
+      bodyMass.push_back(b.mass);
+      bodySpacing.push_back(b.spacing);
+    }
+    st.integers["body_particles"] = bodyParticles;
+    st.reals["body_mass"] = bodyMass;
+    st.reals["body_spacing"] = bodySpacing;
+    st.unsignedIntegers["probe_particles"] = probes_->tracked();
+    // Random numbers are counter-based (a hash of seed, particle id and stream), so the seed is
+    // the whole random state: nothing advances while the run steps.
+    st.integers["random_seed"] = {static_cast<std::int64_t>(deck_.run.seed)};
+    const auto d = decomposition_->state();
+    st.reals["decomposition_box"] = d.box;
+    st.unsignedIntegers["decomposition_begins"] = d.begins;
+    st.integers["decomposition_owners"] = d.owners;
+    st.texts["decomposition_curve"] = deck_.decomposition.curve;
+    st.texts["decomposition_partitioner"] = deck_.decomposition.partitioner;
+    st.integers["rebalances"] = {rebalances_};
+    return st;
+  }
+
+  void restoreState(const io::CheckpointHeader& h, bool sameLayout) {
+    const auto& st = h.state;
+    time_ = h.time;
+    step_ = h.step;
+    resumeDt_ = st.real("dt");
+    wallOffset_ = st.real("wall_seconds");
+    nextSnapshotTime_ = st.real("next_snapshot_time");
+    const auto& t = st.realArray("initial_totals");
+    if (t.size() != 9)
+      throw io::CheckpointError(h.path + ": state/initial_totals has the wrong size");
+    totals0_.mass = t[0];
+    for (int d = 0; d < 3; ++d) {
+      totals0_.momentum[static_cast<std::size_t>(d)] = t[1 + static_cast<std::size_t>(d)];
+      totals0_.momentumScale[static_cast<std::size_t>(d)] = t[6 + static_cast<std::size_t>(d)];
+    }
+    totals0_.kinetic = t[4];
+    totals0_.internal = t[5];
+    snapshotIndex_ = static_cast<int>(st.integer("snapshot_index"));
+    lastSnapshotStep_ = st.integer("last_snapshot_step");
+    const auto& times = st.realArray("snapshot_times");
+    std::istringstream files(st.text("snapshot_files"));
+    series_.clear();
+    std::string file;
+    for (double time : times) {
+      if (!std::getline(files, file))
+        throw io::CheckpointError(h.path + ": state/snapshot_files is shorter than snapshot_times");
+      series_.emplace_back(time, file);
+    }
+    const auto& bp = st.integerArray("body_particles");
+    const auto& bm = st.realArray("body_mass");
+    const auto& bs = st.realArray("body_spacing");
+    if (bp.size() != deck_.bodies.size() || bm.size() != bp.size() || bs.size() != bp.size())
+      throw io::CheckpointError(h.path + ": state/body_* do not match the deck's bodies");
+    bodies_.clear();
+    for (std::size_t b = 0; b < bp.size(); ++b)
+      bodies_.push_back({deck_.bodies[b].name, static_cast<std::size_t>(bp[b]), bm[b], bs[b]});
+    const auto& probes = st.unsignedArray("probe_particles");
+    if (probes.size() != probes_->size())
+      throw io::CheckpointError(h.path +
+                                ": state/probe_particles does not match the deck's probes");
+    probes_->restoreTracked(probes);
+    rebalances_ = static_cast<int>(st.integer("rebalances"));
+    checkpointRanks_ = static_cast<int>(h.rankCounts.size());
+    totalParticles_ = h.particles;
+    lastCheckpointStep_ = step_;
+    if (sameLayout) {
+      try {
+        decomposition_->restore({st.realArray("decomposition_box"),
+                                 st.unsignedArray("decomposition_begins"),
+                                 st.integerArray("decomposition_owners")});
+      } catch (const std::invalid_argument& e) {
+        throw io::CheckpointError(h.path + ": " + e.what());
+      }
+    } else {
+      decomposition_->distributeLoaded(store_);
+    }
+  }
+
   // ---- output ---------------------------------------------------------------------------------
   void resolveOutputFields() {
     std::vector<std::string> available;
@@ -492,9 +772,10 @@ private:
       if (mpi_.root()) {
         io::writeSnapshotXdmf((snapDir / (base + ".xmf")).string(), base + ".h5", time_, global,
                               Dim, infos);
-        series_.emplace_back(time_, base + ".xmf");
-        io::writeSeriesXdmf((snapDir / "series.xmf").string(), series_);
       }
+      // Kept on every rank alike: it is part of the checkpointed state.
+      series_.emplace_back(time_, base + ".xmf");
+      if (mpi_.root()) io::writeSeriesXdmf((snapDir / "series.xmf").string(), series_);
       ++snapshotIndex_;
       lastSnapshotStep_ = step_;
       if (deck_.output.every > 0.0)
@@ -509,7 +790,8 @@ private:
       last_ = t;
       const std::uint64_t n = mpi_.sum(static_cast<std::uint64_t>(store_.localCount()));
       const std::uint64_t ghosts = mpi_.sum(static_cast<std::uint64_t>(ghostCount_));
-      const double wall = std::chrono::duration<double>(Clock::now() - wall0).count();
+      // Wall seconds of the whole chain, so a restarted run's history reads on.
+      const double wall = wallOffset_ + std::chrono::duration<double>(Clock::now() - wall0).count();
       if (history_.open())
         history_.row(fmt::format("{},{:.17g},{:.17g},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:."
                                  "17g},{:.17g},{:.3f},{:.4f},{},{}",
@@ -544,10 +826,13 @@ private:
     log.banner(lines);
   }
 
-  void finish(RunLog& log, const RunOptions& options, Clock::time_point wall0) {
+  void finish(RunLog& log, const RunOptions& options, Clock::time_point wall0, int stopSignal) {
     const double wall = std::chrono::duration<double>(Clock::now() - wall0).count();
-    const double pSteps = static_cast<double>(particles()) * static_cast<double>(step_);
-    const double rate = wall > 0.0 ? pSteps / wall : 0.0;
+    // The stepping rate of this job: checkpoint writing is reported on its own line.
+    const std::int64_t steps = step_ - startStep_;
+    const double pSteps = static_cast<double>(particles()) * static_cast<double>(steps);
+    const double stepping = wall - phases_.checkpoint;
+    const double rate = stepping > 0.0 ? pSteps / stepping : 0.0;
     const auto& t = last_;
     const double massErr = std::abs(t.mass - totals0_.mass) / totals0_.mass;
     double momScale = 0.0, momErr = 0.0;
@@ -568,16 +853,17 @@ private:
     const bool reproducible =
         deck_.decomposition.reproducible && mpi_.max(canonicalLost_ ? 1.0 : 0.0) == 0.0;
     const double meanNeighbors =
-        step_ + 1 > 0 ? pairs / (static_cast<double>(step_ + 1) *
-                                 std::max<double>(1.0, static_cast<double>(particles())))
-                      : 0.0;
+        evaluations_ > 0 ? pairs / (static_cast<double>(evaluations_) *
+                                    std::max<double>(1.0, static_cast<double>(particles())))
+                         : 0.0;
     const double phaseSum = phases_.neighbors + phases_.density + phases_.forces +
                             phases_.integration + phases_.boundaries + phases_.exchange +
-                            phases_.output;
+                            phases_.output + phases_.checkpoint;
     std::vector<std::string> lines = {
-        fmt::format("done: {} steps to t = {:.6g} s in {:.2f} s wall | {:.3g} particle-steps/s "
-                    "({:.3g} per core)",
-                    step_, time_, wall, rate, rate / mpi_.size()),
+        fmt::format("{}: {} steps to t = {:.6g} s (step {}) in {:.2f} s wall | {:.3g} "
+                    "particle-steps/s ({:.3g} per core)",
+                    stopSignal ? "stopped" : "done", steps, time_, step_, wall, rate,
+                    rate / mpi_.size()),
         fmt::format("conservation: mass {:.1e} | momentum {:.1e} | total energy {:.1e} (relative)",
                     massErr, momErr, energyErr),
         fmt::format("time: neighbors {:.1f}% density {:.1f}% forces {:.1f}% integration {:.1f}% "
@@ -586,6 +872,19 @@ private:
                     100 * phases_.forces / wall, 100 * phases_.integration / wall,
                     100 * phases_.boundaries / wall, 100 * phases_.exchange / wall,
                     100 * phases_.output / wall)};
+    if (checkpointsWritten_ > 0)
+      lines.push_back(fmt::format(
+          "checkpoints: {} written, {:.1f} MB each ({:.0f} B/particle), {:.2f} s in all "
+          "({:.0f} MB/s); latest {}",
+          checkpointsWritten_, checkpointBytes_ / 1e6,
+          static_cast<double>(checkpointBytes_) /
+              std::max<double>(1.0, static_cast<double>(particles())),
+          checkpointWriteSeconds_,
+          checkpointWriteSeconds_ > 0 ? checkpointWriteBytes_ / 1e6 / checkpointWriteSeconds_ : 0.0,
+          (dir_ / "checkpoints" / checkpointFileName(lastCheckpointStep_)).string()));
+    if (stopSignal)
+      lines.push_back(fmt::format("stopped by {} at step {}: resume with\n  {}",
+                                  StopSignals::name(stopSignal), step_, resumeCommand(options)));
     if (mpi_.size() > 1)
       lines.push_back(fmt::format(
           "decomposition: {} {} on {} ranks | {} rebalances, cost max/mean {:.3f} | ghosts up to "
@@ -608,11 +907,16 @@ private:
         "{:.6f},\n"
         "  \"particle_steps_per_second\": {:.6g},\n  \"particle_steps_per_second_per_core\": "
         "{:.6g},\n"
+        "  \"status\": \"{}\",\n  \"steps_this_run\": {},\n"
         "  \"mean_neighbors\": {:.3f},\n  \"peak_rss_bytes\": {},\n  \"baseline_rss_bytes\": {},\n"
         "  \"bytes_per_particle\": {:.1f},\n"
         "  \"phases\": {{\"neighbors\": {:.6f}, \"density\": {:.6f}, \"forces\": {:.6f}, "
         "\"integration\": {:.6f}, "
-        "\"boundaries\": {:.6f}, \"exchange\": {:.6f}, \"output\": {:.6f}, \"other\": {:.6f}}},\n"
+        "\"boundaries\": {:.6f}, \"exchange\": {:.6f}, \"output\": {:.6f}, \"checkpoint\": "
+        "{:.6f}, \"other\": {:.6f}}},\n"
+        "  \"checkpoint\": {{\"written\": {}, \"bytes\": {}, \"bytes_per_particle\": {:.1f}, "
+        "\"write_seconds\": {:.6f}, \"write_bytes\": {}, \"read_seconds\": {:.6f}, "
+        "\"read_bytes\": {}, \"restarted_from\": \"{}\", \"ranks_written\": {}}},\n"
         "  \"decomposition\": {{\"curve\": \"{}\", \"partitioner\": \"{}\", \"rebalances\": {}, "
         "\"imbalance\": {:.6f}, \"ghost_fraction_max\": {:.6f}, \"migrated\": {}, "
         "\"max_rank_distance\": {}, \"pairs_across_ranks\": {}, \"metis_edge_cut\": {}, "
@@ -620,14 +924,34 @@ private:
         "  \"conservation\": {{\"mass_relative\": {:.6e}, \"momentum_relative\": {:.6e}, "
         "\"energy_relative\": {:.6e}}}\n}}\n",
         jsonEscape(options.deckPath), jsonEscape(deck_.run.title), mpi_.size(), Dim, particles(),
-        step_, time_, wall, rate, rate / mpi_.size(), meanNeighbors, peak, base,
+        step_, time_, wall, rate, rate / mpi_.size(), stopSignal ? "stopped" : "finished", steps,
+        meanNeighbors, peak, base,
         particles() > 0
             ? static_cast<double>(peak - std::min(peak, base)) / static_cast<double>(particles())
             : 0.0,
         phases_.neighbors, phases_.density, phases_.forces, phases_.integration, phases_.boundaries,
-        phases_.exchange, phases_.output, std::max(0.0, wall - phaseSum), deck_.decomposition.curve,
+        phases_.exchange, phases_.output, phases_.checkpoint, std::max(0.0, wall - phaseSum),
+        checkpointsWritten_, checkpointBytes_,
+        static_cast<double>(checkpointBytes_) /
+            std::max<double>(1.0, static_cast<double>(particles())),
+        checkpointWriteSeconds_, checkpointWriteBytes_, checkpointReadSeconds_,
+        checkpointReadBytes_, jsonEscape(resumedFrom_), checkpointRanks_, deck_.decomposition.curve,
         deck_.decomposition.partitioner, rebalances_, imbalance_, ghostFraction, migratedTotal_,
         maxRankDistance_, crossPairs, metisEdgeCut_, reproducible, massErr, momErr, energyErr);
+  }
+
+  // The command that continues this run, as the user would type it (any rank count will do).
+  static std::string resumeCommand(const RunOptions& o) {
+    auto quote = [](const std::string& a) {
+      if (a.find_first_of(" \t'\"$`\\[]*?{}()<>|&;") == std::string::npos) return a;
+      std::string q = "'";
+      for (char c : a) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+      return q + "'";
+    };
+    std::string cmd = "spall run " + quote(o.deckPath);
+    for (const auto& v : o.overrides) cmd += " --set " + quote(v);
+    if (o.outputDir) cmd += " --output " + quote(*o.outputDir);
+    return cmd + " --restart latest";
   }
 
   static std::string jsonEscape(const std::string& s) {
@@ -676,50 +1000,93 @@ private:
   std::int64_t lastSnapshotStep_ = -1;
   int snapshotIndex_ = 0;
   std::size_t pairCount_ = 0;
+  std::size_t evaluations_ = 0;
   std::size_t baselineRss_ = 0;
+  // Restart chain bookkeeping.
+  std::string resumedFrom_;    // checkpoint this run continued from ("" for a new run)
+  double resumeDt_ = 0.0;      // the time step the checkpointed run would have taken next
+  double wallOffset_ = 0.0;    // wall seconds of the chain before this job
+  std::int64_t startStep_ = 0; // first step of this job
+  std::int64_t lastCheckpointStep_ = -1;
+  Clock::time_point lastCheckpointWall_;
+  int checkpointsWritten_ = 0, checkpointRanks_ = 0;
+  std::uint64_t checkpointBytes_ = 0, checkpointWriteBytes_ = 0, checkpointReadBytes_ = 0;
+  double checkpointWriteSeconds_ = 0.0, checkpointReadSeconds_ = 0.0;
 };
 
 // Refuses to touch a directory that holds results, unless asked to; with --overwrite, removes
-// only what a run writes there.
+// only what a run writes there. A restart continues the results in place.
 void prepareOutputDirectory(const fs::path& dir, const RunOptions& options) {
   static const char* ours[] = {"deck.toml",    "history.csv", "probes.csv",
                                "summary.json", "snapshots",   "checkpoints"};
   if (!fs::exists(dir)) return;
   if (!fs::is_directory(dir))
     throw UsageError(fmt::format("output path '{}' exists and is not a directory", dir.string()));
+  if (options.restart) return;
   bool hasResults = false;
   for (const char* name : ours) hasResults = hasResults || fs::exists(dir / name);
   if (!hasResults) return;
   if (!options.overwrite)
     throw UsageError(
         fmt::format("output directory '{}' already holds results; pass --overwrite to replace "
-                    "them or --output DIR to write elsewhere",
+                    "them, --output DIR to write elsewhere or --restart latest to continue them",
                     dir.string()));
   for (const char* name : ours) fs::remove_all(dir / name);
 }
 
-template <int Dim>
-void runDim(const Deck& deck, const RunOptions& options, const parallel::MpiContext& mpi) {
-  Simulation<Dim> sim(deck, mpi); // every deck error surfaces here, before anything is written
-  const fs::path dir =
-      options.outputDir ? fs::path(*options.outputDir) : fs::path(deck.output.directory);
+// Rank 0 decides, every rank throws the same UsageError.
+template <class F> void onRootAgreed(const parallel::MpiContext& mpi, F&& f) {
   int ok = 1;
   std::string message;
   if (mpi.root()) {
     try {
-      prepareOutputDirectory(dir, options);
+      f();
     } catch (const UsageError& e) {
       ok = 0;
       message = e.what();
     }
   }
   MPI_Bcast(&ok, 1, MPI_INT, 0, mpi.comm());
-  if (!ok) throw UsageError(mpi.root() ? message : std::string("output directory refused"));
+  if (!ok) throw UsageError(mpi.root() ? message : std::string("refused on rank 0"));
+}
+
+template <int Dim>
+void runDim(const Deck& deck, const RunOptions& options, const parallel::MpiContext& mpi) {
+  if (options.restart && options.overwrite)
+    throw UsageError("--restart continues the results in the output directory; --overwrite "
+                     "would delete them: pass one or the other");
+  const fs::path dir =
+      options.outputDir ? fs::path(*options.outputDir) : fs::path(deck.output.directory);
+  Simulation<Dim> sim(deck, mpi); // every deck error surfaces here, before anything is written
+  if (options.restart) {
+    RestartCandidates candidates;
+    onRootAgreed(mpi, [&] { candidates = restartCandidates(dir, *options.restart); });
+    // Every rank needs the same list: rank 0 looked at the directory, the others follow.
+    std::string joined;
+    for (const auto& f : candidates.files) joined += f.string() + "\n";
+    int flags[2] = {static_cast<int>(joined.size()), candidates.fallback ? 1 : 0};
+    MPI_Bcast(flags, 2, MPI_INT, 0, mpi.comm());
+    joined.resize(static_cast<std::size_t>(flags[0]));
+    MPI_Bcast(joined.data(), flags[0], MPI_CHAR, 0, mpi.comm());
+    int problemSize = static_cast<int>(candidates.problem.size());
+    MPI_Bcast(&problemSize, 1, MPI_INT, 0, mpi.comm());
+    candidates.problem.resize(static_cast<std::size_t>(problemSize));
+    MPI_Bcast(candidates.problem.data(), problemSize, MPI_CHAR, 0, mpi.comm());
+    candidates.fallback = flags[1] != 0;
+    candidates.files.clear();
+    std::istringstream lines(joined);
+    for (std::string line; std::getline(lines, line);) candidates.files.emplace_back(line);
+    sim.resume(candidates); // nothing written yet: a bad checkpoint leaves the directory as it was
+  } else {
+    sim.generate();
+  }
+  onRootAgreed(mpi, [&] { prepareOutputDirectory(dir, options); });
   sim.run(options, dir);
 }
 
 template <int Dim> void checkDim(const Deck& deck, const parallel::MpiContext& mpi) {
   Simulation<Dim> sim(deck, mpi);
+  sim.generate();
   const double dt = sim.firstTimeStep();
   if (!mpi.root()) return;
   fmt::print("deck {}: OK\n", deck.path);
@@ -741,8 +1108,6 @@ template <int Dim> void checkDim(const Deck& deck, const parallel::MpiContext& m
 } // namespace
 
 void runDeck(const Deck& deck, const RunOptions& options, const parallel::MpiContext& mpi) {
-  if (options.restart)
-    throw UsageError("--restart arrives with checkpoint/restart chains and is not available yet");
   switch (deck.run.dimension) {
   case 1:
     return runDim<1>(deck, options, mpi);

@@ -16,6 +16,19 @@ CsvLog::CsvLog(const std::string& path, const std::string& header, double flushS
   flush();
 }
 
+CsvLog CsvLog::append(const std::string& path, const std::string& header, double flushSeconds) {
+  std::FILE* existing = std::fopen(path.c_str(), "r");
+  if (!existing) return CsvLog(path, header, flushSeconds);
+  std::fclose(existing);
+  CsvLog log;
+  log.path_ = path;
+  log.flushSeconds_ = flushSeconds;
+  log.lastFlush_ = std::chrono::steady_clock::now();
+  log.file_ = std::fopen(path.c_str(), "a");
+  if (!log.file_) throw RunError("cannot append to " + path + ": " + std::strerror(errno));
+  return log;
+}
+
 CsvLog::~CsvLog() {
   if (file_) std::fclose(file_);
 }

@@ -1,5 +1,6 @@
 #include "spall/io/Snapshot.hpp"
 
+#include "Hdf5Util.hpp"
 #include "spall/core/Error.hpp"
 
 #include <hdf5.h>
@@ -10,141 +11,16 @@
 namespace spall::io {
 namespace {
 
-// HDF5 prints its error stack to stderr by default; we turn every failure into a RunError
-// instead, so silence it while we work and restore whatever the caller had afterwards.
-class QuietHdf5 {
-public:
-  QuietHdf5() {
-    H5Eget_auto2(H5E_DEFAULT, &func_, &data_);
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  }
-  ~QuietHdf5() { H5Eset_auto2(H5E_DEFAULT, func_, data_); }
-  QuietHdf5(const QuietHdf5&) = delete;
-  QuietHdf5& operator=(const QuietHdf5&) = delete;
-
-private:
-  H5E_auto2_t func_ = nullptr;
-  void* data_ = nullptr;
-};
-
-// The most specific message on the HDF5 error stack (e.g. the errno text of a failed open).
-std::string hdf5Detail() {
-  std::string detail;
-  H5Ewalk2(
-      H5E_DEFAULT, H5E_WALK_UPWARD,
-      [](unsigned n, const H5E_error2_t* e, void* out) -> herr_t {
-        if (n == 0 && e->desc) *static_cast<std::string*>(out) = e->desc;
-        return 0;
-      },
-      &detail);
-  H5Eclear2(H5E_DEFAULT);
-  return detail;
-}
-
-[[noreturn]] void fail(const std::string& path, const std::string& call) {
-  const std::string detail = hdf5Detail();
-  throw RunError(path + ": " + call + " failed" + (detail.empty() ? "" : ": " + detail));
-}
-
-// Owns one HDF5 identifier and closes it with the matching H5?close.
-class Handle {
-public:
-  using Closer = herr_t (*)(hid_t);
-  Handle(hid_t id, Closer close, const std::string& path, const char* call)
-      : id_(id), close_(close) {
-    if (id_ < 0) fail(path, call);
-  }
-  ~Handle() {
-    if (id_ >= 0) close_(id_);
-  }
-  Handle(const Handle&) = delete;
-  Handle& operator=(const Handle&) = delete;
-  operator hid_t() const { return id_; }
-  // Closes now, reporting failure (a file's close flushes, so it can fail).
-  void close(const std::string& path, const char* call) {
-    const herr_t rc = close_(id_);
-    id_ = -1;
-    if (rc < 0) fail(path, call);
-  }
-
-private:
-  hid_t id_;
-  Closer close_;
-};
-
-void check(herr_t rc, const std::string& path, const char* call) {
-  if (rc < 0) fail(path, call);
-}
-
-hid_t fileType(ScalarType t) {
-  switch (t) {
-  case ScalarType::F64:
-    return H5T_IEEE_F64LE;
-  case ScalarType::U64:
-    return H5T_STD_U64LE;
-  case ScalarType::I32:
-    return H5T_STD_I32LE;
-  }
-  return H5T_IEEE_F64LE;
-}
-
-hid_t memoryType(ScalarType t) {
-  switch (t) {
-  case ScalarType::F64:
-    return H5T_NATIVE_DOUBLE;
-  case ScalarType::U64:
-    return H5T_NATIVE_UINT64;
-  case ScalarType::I32:
-    return H5T_NATIVE_INT32;
-  }
-  return H5T_NATIVE_DOUBLE;
-}
-
-void writeScalarAttribute(hid_t loc, const char* name, hid_t fileT, hid_t memT, const void* value,
-                          const std::string& path) {
-  Handle space(H5Screate(H5S_SCALAR), H5Sclose, path, "H5Screate");
-  Handle attr(H5Acreate2(loc, name, fileT, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose, path,
-              "H5Acreate2");
-  check(H5Awrite(attr, memT, value), path, "H5Awrite");
-}
-
-// Fixed-length, null-terminated: simple in parallel HDF5 and read by every tool.
-void writeStringAttribute(hid_t loc, const char* name, const std::string& value,
-                          const std::string& path) {
-  Handle type(H5Tcopy(H5T_C_S1), H5Tclose, path, "H5Tcopy");
-  check(H5Tset_size(type, value.size() + 1), path, "H5Tset_size");
-  check(H5Tset_strpad(type, H5T_STR_NULLTERM), path, "H5Tset_strpad");
-  writeScalarAttribute(loc, name, type, type, value.c_str(), path);
-}
+using hdf5::check;
+using hdf5::fail;
+using hdf5::Handle;
+using hdf5::readScalarAttribute;
+using hdf5::readStringAttribute;
+using hdf5::writeScalarAttribute;
+using hdf5::writeStringAttribute;
 
 void writeField(hid_t group, hid_t dxpl, const SnapshotField& f, std::uint64_t globalCount,
                 std::uint64_t offset, std::size_t localCount, const std::string& path) {
-  const int rank = 1 + static_cast<int>(f.info.shape.size());
-  std::vector<hsize_t> dims{globalCount}, local{localCount}, start{offset};
-  for (int s : f.info.shape) {
-    dims.push_back(static_cast<hsize_t>(s));
-    local.push_back(static_cast<hsize_t>(s));
-    start.push_back(0);
-  }
-  Handle fileSpace(H5Screate_simple(rank, dims.data(), nullptr), H5Sclose, path,
-                   "H5Screate_simple");
-  Handle memSpace(H5Screate_simple(rank, local.data(), nullptr), H5Sclose, path,
-                  "H5Screate_simple");
-  Handle dset(H5Dcreate2(group, f.info.name.c_str(), fileType(f.info.scalar), fileSpace,
-                         H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-              H5Dclose, path, ("H5Dcreate2(" + f.info.name + ")").c_str());
-  if (localCount == 0) {
-    // Collective I/O: a rank without rows still joins the write with an empty selection.
-    check(H5Sselect_none(fileSpace), path, "H5Sselect_none");
-    check(H5Sselect_none(memSpace), path, "H5Sselect_none");
-  } else {
-    check(H5Sselect_hyperslab(fileSpace, H5S_SELECT_SET, start.data(), nullptr, local.data(),
-                              nullptr),
-          path, "H5Sselect_hyperslab");
-  }
-  // A dataset with no rows has no storage to write to; every rank knows, so all skip together.
-  if (globalCount == 0) return;
-  static const double dummy = 0.0; // HDF5 rejects a null buffer even for an empty selection
   std::vector<std::byte> scratch;
   const void* buf = f.data;
   if (!buf && f.fill && localCount > 0) {
@@ -153,9 +29,7 @@ void writeField(hid_t group, hid_t dxpl, const SnapshotField& f, std::uint64_t g
     f.fill(scratch.data());
     buf = scratch.data();
   }
-  if (!buf) buf = &dummy;
-  check(H5Dwrite(dset, memoryType(f.info.scalar), memSpace, fileSpace, dxpl, buf), path,
-        ("H5Dwrite(" + f.info.name + ")").c_str());
+  hdf5::writeRows(group, dxpl, f.info, globalCount, offset, localCount, buf, path);
 }
 
 void writeFile(MPI_Comm comm, const std::string& tmp, const SnapshotAttributes& attrs,
@@ -189,7 +63,7 @@ void writeFile(MPI_Comm comm, const std::string& tmp, const SnapshotAttributes& 
 
 void writeSnapshot(MPI_Comm comm, const std::string& path, const SnapshotAttributes& attrs,
                    std::size_t localCount, std::span<const SnapshotField> fields) {
-  QuietHdf5 quiet;
+  hdf5::Quiet quiet;
   const std::string tmp = path + ".tmp";
   writeFile(comm, tmp, attrs, localCount, fields);
 
@@ -204,39 +78,8 @@ void writeSnapshot(MPI_Comm comm, const std::string& path, const SnapshotAttribu
   if (!ok) throw RunError(path + ": cannot rename " + tmp + " to it");
 }
 
-namespace {
-
-template <class T>
-T readScalarAttribute(hid_t loc, const char* name, hid_t memT, const std::string& path) {
-  Handle attr(H5Aopen(loc, name, H5P_DEFAULT), H5Aclose, path,
-              (std::string("H5Aopen(") + name + ")").c_str());
-  T value{};
-  check(H5Aread(attr, memT, &value), path, "H5Aread");
-  return value;
-}
-
-std::string readStringAttribute(hid_t loc, const char* name, const std::string& path) {
-  Handle attr(H5Aopen(loc, name, H5P_DEFAULT), H5Aclose, path,
-              (std::string("H5Aopen(") + name + ")").c_str());
-  Handle type(H5Aget_type(attr), H5Tclose, path, "H5Aget_type");
-  if (H5Tis_variable_str(type) > 0) { // written by another tool
-    char* s = nullptr;
-    Handle memT(H5Tcopy(H5T_C_S1), H5Tclose, path, "H5Tcopy");
-    check(H5Tset_size(memT, H5T_VARIABLE), path, "H5Tset_size");
-    check(H5Aread(attr, memT, &s), path, "H5Aread");
-    std::string out = s ? s : "";
-    H5free_memory(s);
-    return out;
-  }
-  std::string buf(H5Tget_size(type), '\0');
-  check(H5Aread(attr, type, buf.data()), path, "H5Aread");
-  return buf.substr(0, buf.find('\0'));
-}
-
-} // namespace
-
 SnapshotData readSnapshot(const std::string& path) {
-  QuietHdf5 quiet;
+  hdf5::Quiet quiet;
   SnapshotData out;
   Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, path, "H5Fopen");
   out.time = readScalarAttribute<double>(file, "time", H5T_NATIVE_DOUBLE, path);

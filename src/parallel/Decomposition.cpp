@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <stdexcept>
 #include <unordered_map>
 
 namespace spall::parallel {
@@ -26,9 +27,40 @@ template <int Dim> void Decomposition<Dim>::distributeInitial(ParticleStore& s) 
   std::iota(rows.begin(), rows.end(), static_cast<std::uint32_t>(begin));
   s.keepLocal(rows);
   for (auto& c : s[cost_]) c = 1;
+  distributeLoaded(s);
+}
+
+template <int Dim> void Decomposition<Dim>::distributeLoaded(ParticleStore& s) {
   rebalance(s, {}, {});
   // Room for the halo's ghosts (~10% on a few ranks) without a reallocation; one rank has none.
   s.shrinkToFit(size_ > 1 ? 0.15 : 0.0);
+}
+
+template <int Dim> DecompositionState Decomposition<Dim>::state() const {
+  DecompositionState st;
+  for (int d = 0; d < Dim; ++d) st.box.push_back(keys_.lo()[d]);
+  for (int d = 0; d < Dim; ++d) st.box.push_back(keys_.hi()[d]);
+  st.begins = owner_.begins();
+  for (int r : owner_.ranks()) st.owners.push_back(r);
+  return st;
+}
+
+template <int Dim> void Decomposition<Dim>::restore(const DecompositionState& st) {
+  if (st.box.size() != 2 * Dim || st.begins.empty() || st.begins.size() != st.owners.size() ||
+      st.begins.front() != 0 || !std::is_sorted(st.begins.begin(), st.begins.end()))
+    throw std::invalid_argument("decomposition state has the wrong shape");
+  Vec<Dim> lo, hi;
+  for (int d = 0; d < Dim; ++d) {
+    lo[d] = st.box[static_cast<std::size_t>(d)];
+    hi[d] = st.box[static_cast<std::size_t>(Dim + d)];
+  }
+  keys_ = KeyMap<Dim>(lo, hi, cfg_.curve);
+  std::vector<int> owners;
+  for (auto r : st.owners) {
+    if (r < 0 || r >= size_) throw std::invalid_argument("decomposition state names a bad rank");
+    owners.push_back(static_cast<int>(r));
+  }
+  owner_ = KeyOwnership(st.begins, owners);
 }
 
 template <int Dim> void Decomposition<Dim>::newKeyBox(const ParticleStore& s) {

@@ -160,8 +160,12 @@ def main():
         with open(os.path.join(out, "deck.toml")) as f:
             resolved = f.read()
         check("resolved deck holds the override", re.search(r"end_time\s*=\s*2(\.0)?e-0?6", resolved), resolved)
-        r = run("run", good, "--restart", "latest")
-        check("--restart not yet available: exit 2", r.returncode == 2, r.stderr)
+        r = run("run", good, "--restart", "latest", "--overwrite")
+        check("--restart with --overwrite: exit 2", r.returncode == 2 and "one or the other" in r.stderr, r.stderr)
+        rows = len(open(os.path.join(out, "history.csv")).read().splitlines())
+        r = run("run", good, "--restart", "latest", "--quiet", "--set", "run.end_time=3e-6")
+        check("--restart latest extends the run", r.returncode == 0 and
+              len(open(os.path.join(out, "history.csv")).read().splitlines()) > rows, r.stderr)
 
         # Every shipped deck passes `spall check`.
         decks = sorted(d for d in os.listdir(os.path.join(SRC, "decks")) if d.endswith(".toml"))

@@ -49,6 +49,19 @@ public:
   std::vector<ProbeSample> sample(const ParticleStore& s, const solvers::SphFields<Dim>& f,
                                   const parallel::MpiContext& mpi, double support);
   bool empty() const { return probes_.empty(); }
+  // The particle each probe follows (0 for "space" probes), for checkpoints, and back.
+  std::vector<ParticleId> tracked() const {
+    std::vector<ParticleId> ids;
+    for (const auto& p : probes_) ids.push_back(p.particle);
+    return ids;
+  }
+  void restoreTracked(const std::vector<ParticleId>& ids) {
+    for (std::size_t k = 0; k < probes_.size() && k < ids.size(); ++k) {
+      probes_[k].particle = ids[k];
+      probes_[k].cachedIndex = 0;
+    }
+  }
+  std::size_t size() const { return probes_.size(); }
 
 private:
   struct Probe {

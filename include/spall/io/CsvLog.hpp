@@ -12,6 +12,9 @@ class CsvLog {
 public:
   CsvLog() = default;
   CsvLog(const std::string& path, const std::string& header, double flushSeconds = 2.0);
+  // Continues an existing file (a restart); writes the header only if the file is new.
+  static CsvLog append(const std::string& path, const std::string& header,
+                       double flushSeconds = 2.0);
   ~CsvLog();
   CsvLog(CsvLog&&) noexcept;
   CsvLog& operator=(CsvLog&&) noexcept;

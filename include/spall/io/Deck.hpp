@@ -177,4 +177,10 @@ struct Deck {
 // position of the first offending value. Writes nothing.
 Deck loadDeck(const std::string& path, const std::vector<std::string>& overrides = {});
 
+// What differs between two resolved decks in the keys that shape the physics, one line per key
+// ("solver.cfl: 0.3 before, 0.25 now"). A restart may change only run.end_time, run.max_steps,
+// run.title and the [output], [checkpoint] and [decomposition] tables; everything else must be
+// as the checkpoint was written. Array-of-tables entries are matched by their `name`.
+std::vector<std::string> deckPhysicsDifferences(const std::string& before, const std::string& now);
+
 } // namespace spall

@@ -36,6 +36,13 @@ struct RebalanceReport {
   std::uint64_t moved = 0;
 };
 
+// What a checkpoint keeps of the decomposition: the key box and the key intervals of each rank.
+struct DecompositionState {
+  std::vector<double> box;           // lo[0..Dim), hi[0..Dim)
+  std::vector<std::uint64_t> begins; // interval starts, ascending
+  std::vector<std::int64_t> owners;  // rank of each interval
+};
+
 template <int Dim> class Decomposition {
 public:
   Decomposition(MPI_Comm comm, DecompositionConfig config, Field<ParticleId> id, Field<Vec<Dim>> x,
@@ -44,6 +51,13 @@ public:
   // Start-up: every rank generated the same full particle set; keeps an even slice by index and
   // then partitions by key (unit cost) and migrates.
   void distributeInitial(ParticleStore& s);
+  // Restart on another rank count (or curve): the particles are spread arbitrarily over the
+  // ranks; partitions by key with their recorded cost and migrates.
+  void distributeLoaded(ParticleStore& s);
+  // Restart on the same rank count: every rank holds the rows it wrote; takes the key box and
+  // the cuts back, so the run continues exactly as it would have.
+  DecompositionState state() const;
+  void restore(const DecompositionState& state);
   // After a drift: moves every owned particle whose key left this rank's part to its owner.
   MigrationStats migrate(ParticleStore& s, std::int64_t step);
   // max/mean of the summed cost over ranks (collective).

@@ -23,6 +23,8 @@ public:
   int owner(std::uint64_t key) const;
   std::size_t intervals() const { return begins_.size(); }
   bool empty() const { return begins_.empty(); }
+  const std::vector<std::uint64_t>& begins() const { return begins_; }
+  const std::vector<int>& ranks() const { return ranks_; }
 
 private:
   std::vector<std::uint64_t> begins_;

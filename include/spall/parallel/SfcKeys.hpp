@@ -72,7 +72,7 @@ std::uint64_t hilbertKey(std::array<std::uint64_t, Dim> X, int bits = keyBits<Di
 template <int Dim> class KeyMap {
 public:
   KeyMap() = default;
-  KeyMap(const Vec<Dim>& lo, const Vec<Dim>& hi, Curve curve) : lo_(lo), curve_(curve) {
+  KeyMap(const Vec<Dim>& lo, const Vec<Dim>& hi, Curve curve) : lo_(lo), hi_(hi), curve_(curve) {
     // One scale for all axes (the largest extent): cubic cells keep the curve's locality the
     // same in every direction, and a long thin body is cut across its length.
     const double cells = std::ldexp(1.0, keyBits<Dim>()); // 2^bits
@@ -93,9 +93,12 @@ public:
     return curve_ == Curve::Hilbert ? hilbertKey<Dim>(c) : mortonKey<Dim>(c);
   }
   const Vec<Dim>& lo() const { return lo_; }
+  const Vec<Dim>& hi() const { return hi_; }
+  Curve curve() const { return curve_; }
 
 private:
   Vec<Dim> lo_ = Vec<Dim>::Zero();
+  Vec<Dim> hi_ = Vec<Dim>::Zero();
   Vec<Dim> scale_ = Vec<Dim>::Zero();
   Curve curve_ = Curve::Hilbert;
 };
