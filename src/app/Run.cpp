@@ -45,11 +45,28 @@ std::vector<materials::Eos> buildEos(const Deck& deck) {
     else if (c.type == "mie_gruneisen")
       eos.emplace_back(materials::MieGruneisen{m.density, c.c0, c.s, c.gamma0});
     else
-      throw DeckError(c.where, fmt::format("material '{}': the '{}' EOS arrives with the "
-                                           "solid-mechanics work and is not available yet",
-                                           m.name, c.type));
+      eos.emplace_back(materials::Tillotson{m.density, c.a, c.b, c.A, c.B, c.alpha, c.beta, c.e0,
+                                            c.e_iv, c.e_cv});
   }
   return eos;
+}
+
+std::vector<std::optional<materials::Strength>> buildStrength(const Deck& deck) {
+  std::vector<std::optional<materials::Strength>> out;
+  for (const auto& m : deck.materials) {
+    const auto& c = m.strength;
+    if (c.type == "elastic")
+      out.emplace_back(materials::Elastic{c.shear_modulus});
+    else if (c.type == "von_mises")
+      out.emplace_back(materials::VonMises{c.shear_modulus, c.yield_stress});
+    else if (c.type == "johnson_cook")
+      out.emplace_back(materials::JohnsonCook{
+          c.shear_modulus, c.A, c.B, c.n, c.C, c.m, c.reference_strain_rate, c.room_temperature,
+          c.melt_temperature, c.specific_heat, c.taylor_quinney});
+    else
+      out.emplace_back(std::nullopt);
+  }
+  return out;
 }
 
 const char* kernelName(KernelType k) {
@@ -90,7 +107,7 @@ struct Phases {
 template <int Dim> class Simulation {
 public:
   Simulation(const Deck& deck, const parallel::MpiContext& mpi)
-      : deck_(deck), mpi_(mpi), eos_(buildEos(deck)) {
+      : deck_(deck), mpi_(mpi), eos_(buildEos(deck)), strength_(buildStrength(deck)) {
     for (const auto& b : deck.bodies) {
       if (b.insert_time > 0.0)
         throw DeckError(b.where, fmt::format("body '{}': insert_time arrives with the penetration "
@@ -98,7 +115,10 @@ public:
                                              b.name));
     }
     baselineRss_ = residentBytes();
-    f_.registerIn(store_, deck.solver.artificial_viscosity.balsara);
+    // Strength fields and the deviatoric work only where a deck has a solid.
+    const bool solids = std::any_of(strength_.begin(), strength_.end(),
+                                    [](const auto& s) { return s.has_value(); });
+    f_.registerIn(store_, deck.solver.artificial_viscosity.balsara, solids);
     // Neighbors per particle from the last search: the load-balancing cost. Migrates, never
     // written.
     // Checkpointed: a restart on the same rank count then rebalances exactly as the run would have.
@@ -111,7 +131,7 @@ public:
     dc.imbalanceThreshold = deck.decomposition.imbalance_threshold;
     decomposition_ =
         std::make_unique<parallel::Decomposition<Dim>>(mpi.comm(), dc, f_.id, f_.x, cost_);
-    solver_ = solvers::makeSolver<Dim>({deck.solver, eos_}, store_, f_);
+    solver_ = solvers::makeSolver<Dim>({deck.solver, eos_, strength_}, store_, f_);
     boundaries_ = std::make_unique<solvers::Boundaries<Dim>>(deck.boundaries, f_);
     halo_ = std::make_unique<parallel::HaloExchange<Dim>>(mpi.comm(), boundaries_->periodicAxes());
     // What the neighbor search, the density sum and the force loop read of a ghost; after the
@@ -121,6 +141,7 @@ public:
       haloFields_.push_back(c);
     if (f_.divv.valid())
       haloFields_.push_back(f_.divv.index), haloFields_.push_back(f_.curlv.index);
+    if (f_.hasStrength()) haloFields_.push_back(f_.S.index); // the force loop reads S_j
     refreshFields_ = {f_.rho.index, f_.p.index, f_.cs.index};
     probes_ = std::make_unique<diagnostics::Probes<Dim>>(deck.probes);
     resolveOutputFields();
@@ -131,6 +152,19 @@ public:
   void generate() {
     bodies_ = generateBodies<Dim>(deck_, eos_, store_, f_);
     applyEnergySources<Dim>(deck_, store_, f_);
+    if (f_.hasStrength()) {
+      // Unstressed at t = 0; Johnson-Cook materials start at their room temperature (the only
+      // model that tracks temperature).
+      const auto mat = store_[f_.material];
+      const auto T = store_[f_.temperature];
+      for (std::size_t i = 0; i < store_.localCount(); ++i) {
+        store_[f_.S][i].setZero();
+        store_[f_.L][i].setZero();
+        store_[f_.plasticStrain][i] = 0.0;
+        const auto& c = deck_.materials[static_cast<std::size_t>(mat[i])].strength;
+        T[i] = c.type == "johnson_cook" ? c.room_temperature : 0.0;
+      }
+    }
     decomposition_->distributeInitial(store_);
     totalParticles_ = mpi_.sum(static_cast<std::uint64_t>(store_.localCount()));
     solver_->equationOfState();
@@ -436,6 +470,9 @@ private:
       }
       if (continuity)
         for (std::size_t i = 0; i < n; ++i) rho[i] += dt * drhodt[i];
+      // S_{n+1} from S_n and the velocity gradient of the last evaluation (explicit, like the
+      // drift): the force evaluation below then sees the new stress.
+      solver_->updateStrength(dt);
       store_.swapValues(f_.a, f_.aOld);
       store_.swapValues(f_.dedt, f_.dedtOld);
       store_.swapValues(f_.drhodt, f_.drhodtOld);
@@ -751,12 +788,15 @@ private:
                                 H[i] = Tensor<Dim>::Identity() / h[i];
                             }});
         } else if (name == "stress") {
-          // Full Cauchy stress -p I + S; S = 0 on the hydro path.
+          // Full Cauchy stress -p I + S (the Dim x Dim block); S = 0 on the hydro path.
           const auto p = store_[f_.p];
-          fields.push_back({tensor, nullptr, [p, n](void* rows) {
+          const auto S = f_.hasStrength() ? store_[f_.S] : std::span<const Tensor<3>>{};
+          fields.push_back({tensor, nullptr, [p, S, n](void* rows) {
                               auto* sigma = static_cast<Tensor<Dim>*>(rows);
-                              for (std::size_t i = 0; i < n; ++i)
+                              for (std::size_t i = 0; i < n; ++i) {
                                 sigma[i] = -p[i] * Tensor<Dim>::Identity();
+                                if (!S.empty()) sigma[i] += S[i].template topLeftCorner<Dim, Dim>();
+                              }
                             }});
         } else {
           const ColumnBase* c = store_.find(name);
@@ -966,6 +1006,7 @@ private:
   const Deck& deck_;
   const parallel::MpiContext& mpi_;
   std::vector<materials::Eos> eos_;
+  std::vector<std::optional<materials::Strength>> strength_;
   ParticleStore store_;
   solvers::SphFields<Dim> f_;
   std::vector<BodySummary> bodies_;

@@ -21,7 +21,7 @@ double fieldValue(const ProbeField& pf, const ParticleStore& s, const solvers::S
     return s[f.v][i][pf.a];
   // Cauchy stress sigma = -p I + S; S = 0 on the hydro path.
   case ProbeField::Kind::Stress:
-    return pf.a == pf.b ? -s[f.p][i] : 0.0;
+    return (pf.a == pf.b ? -s[f.p][i] : 0.0) + (f.hasStrength() ? s[f.S][i](pf.a, pf.b) : 0.0);
   case ProbeField::Kind::Pressure:
     return s[f.p][i];
   case ProbeField::Kind::Density:

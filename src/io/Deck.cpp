@@ -81,6 +81,7 @@ private:
   void readBoundary(const TableReader& r, BoundaryConfig& b) const;
   void readOutput(const TableReader& r, OutputConfig& o) const;
   void readCheckpoint(const TableReader& r, CheckpointConfig& c) const;
+  void readStrength(const TableReader& r, StrengthConfig& c) const;
   void readProbe(const TableReader& r, ProbeConfig& p) const;
 
   const toml::table& root_;
@@ -255,12 +256,52 @@ void DeckReader::readMaterial(const TableReader& r, MaterialConfig& m) const {
 
   if (const toml::table* t = r.subtable("strength")) {
     const TableReader s = reader(*t, r.context().child("strength"));
-    const auto type = s.string("type");
-    if (type &&
-        (*type == "elastic" || *type == "von_mises" || *type == "johnson_cook" || *type == "cap"))
-      s.fail("type", "strength type '" + *type + "' is not available yet (available: none)");
-    m.strength = s.choice("type", {"none"}, std::nullopt);
-    s.allowOnly(*dd::schemaKeys("material.strength"));
+    readStrength(s, m.strength);
+  }
+}
+
+void DeckReader::readStrength(const TableReader& r, StrengthConfig& c) const {
+  c.where = r.where();
+  const auto type = r.string("type");
+  if (type && *type == "cap")
+    r.fail("type",
+           "strength type 'cap' arrives with the geomaterials work and is not available yet");
+  c.type = r.choice("type", dd::typeNames("material.strength"), std::nullopt);
+  const Names& params = dd::typedKeys("material.strength", c.type);
+  Names keys{"type"};
+  keys.insert(keys.end(), params.begin(), params.end());
+  r.allowOnly(keys, "strength type '" + c.type + "' takes: " +
+                        (params.empty() ? std::string("nothing else") : dd::joined(params)));
+  const auto need = [&](std::string_view key) { return r.required(r.number(key), key); };
+  if (c.type == "none") return;
+  c.shear_modulus = need("shear_modulus");
+  r.check(c.shear_modulus > 0.0, "shear_modulus", "> 0", c.shear_modulus);
+  if (c.type == "von_mises") {
+    c.yield_stress = need("yield_stress");
+    r.check(c.yield_stress > 0.0, "yield_stress", "> 0", c.yield_stress);
+  } else if (c.type == "johnson_cook") {
+    c.A = need("A");
+    r.check(c.A > 0.0, "A", "> 0", c.A);
+    c.B = need("B");
+    r.check(c.B >= 0.0, "B", ">= 0", c.B);
+    c.n = need("n");
+    r.check(c.n > 0.0, "n", "> 0", c.n);
+    c.C = need("C");
+    r.check(c.C >= 0.0, "C", ">= 0", c.C);
+    c.m = need("m");
+    r.check(c.m > 0.0, "m", "> 0", c.m);
+    c.reference_strain_rate = need("reference_strain_rate");
+    r.check(c.reference_strain_rate > 0.0, "reference_strain_rate", "> 0", c.reference_strain_rate);
+    c.room_temperature = need("room_temperature");
+    r.check(c.room_temperature > 0.0, "room_temperature", "> 0", c.room_temperature);
+    c.melt_temperature = need("melt_temperature");
+    r.check(c.melt_temperature > c.room_temperature, "melt_temperature", "> room_temperature",
+            c.melt_temperature);
+    c.specific_heat = need("specific_heat");
+    r.check(c.specific_heat > 0.0, "specific_heat", "> 0", c.specific_heat);
+    c.taylor_quinney = need("taylor_quinney");
+    r.check(c.taylor_quinney >= 0.0 && c.taylor_quinney <= 1.0, "taylor_quinney", "in [0, 1]",
+            c.taylor_quinney);
   }
 }
 

@@ -46,6 +46,13 @@ template <int Dim> void Boundaries<Dim>::buildGhosts(ParticleStore& s, double re
       auto v = s[f_.v];
       x[g] -= 2.0 * d * w.normal;
       v[g] -= 2.0 * v[g].dot(w.normal) * w.normal;
+      if (f_.hasStrength()) {
+        // The mirror image of a stress tensor: P S P with the reflection P = I - 2 n n^T.
+        Tensor<3> P = Tensor<3>::Identity();
+        P.template topLeftCorner<Dim, Dim>() -= 2.0 * w.normal * w.normal.transpose();
+        auto S = s[f_.S];
+        S[g] = P * S[g] * P;
+      }
       source_.push_back(static_cast<std::uint32_t>(i));
     }
   }

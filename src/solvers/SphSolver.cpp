@@ -22,8 +22,10 @@ template <int Dim, class K> class Sph final : public Solver<Dim> {
 
 public:
   Sph(const SolverSetup& setup, ParticleStore& store, const SphFields<Dim>& f)
-      : cfg_(setup.config), eos_(setup.eos), s_(store), f_(f),
-        psi_(kernels::PsiTable::build<KW, Dim>()) {}
+      : cfg_(setup.config), eos_(setup.eos), strength_(setup.strength), s_(store), f_(f),
+        psi_(kernels::PsiTable::build<KW, Dim>()) {
+    strength_.resize(eos_.size());
+  }
 
   double support() const override { return K::support; }
   bool usesSummationDensity() const override { return cfg_.density != DensityMethod::Continuity; }
@@ -74,21 +76,63 @@ public:
             }
           },
           eos_[k]);
+      // A solid carries shear waves too: the signal speed of the time step and the viscosity is
+      // the longitudinal one, sqrt(cs^2 + 4G/(3 rho)).
+      if (strength_[k]) {
+        const double G = std::visit([](const auto& m) { return m.shearModulus(); }, *strength_[k]);
+        for (std::size_t i = 0; i < n; ++i)
+          if (mat[i] == static_cast<std::int32_t>(k))
+            cs[i] = std::sqrt(cs[i] * cs[i] + 4.0 * G / (3.0 * rho[i]));
+      }
+    }
+  }
+
+  void updateStrength(double dt) override {
+    if (!f_.hasStrength()) return;
+    const auto S = s_[f_.S];
+    const auto L = s_[f_.L];
+    const auto eps = s_[f_.plasticStrain];
+    const auto T = s_[f_.temperature];
+    const auto rho = s_[f_.rho];
+    const auto mat = s_[f_.material];
+    const std::size_t n = s_.localCount();
+    // One visit per material with strength, then a plain loop (materials/Strength.hpp: the same
+    // pure functions the single-element driver calls).
+    for (std::size_t k = 0; k < strength_.size(); ++k) {
+      if (!strength_[k]) continue;
+      std::visit(
+          [&](const auto& model) {
+            for (std::size_t i = 0; i < n; ++i) {
+              if (mat[i] != static_cast<std::int32_t>(k)) continue;
+              const materials::StrengthState next =
+                  model.update({S[i], eps[i], T[i]}, L[i], dt, rho[i]);
+              S[i] = next.S;
+              eps[i] = next.plasticStrain;
+              T[i] = next.temperature;
+            }
+          },
+          *strength_[k]);
     }
   }
 
   void computeRates(const neighbors::NeighborList& nl) override {
+    if (f_.hasStrength())
+      ratesFor<true>(nl);
+    else
+      ratesFor<false>(nl);
+  }
+  template <bool Solid> void ratesFor(const neighbors::NeighborList& nl) {
     const bool product = cfg_.stress_form == StressForm::RhoProduct;
     if (cfg_.artificial_viscosity.balsara) {
       if (product)
-        ratesLoop<true, true>(nl);
+        ratesLoop<true, true, Solid>(nl);
       else
-        ratesLoop<true, false>(nl);
+        ratesLoop<true, false, Solid>(nl);
     } else {
       if (product)
-        ratesLoop<false, true>(nl);
+        ratesLoop<false, true, Solid>(nl);
       else
-        ratesLoop<false, false>(nl);
+        ratesLoop<false, false, Solid>(nl);
     }
   }
 
@@ -146,7 +190,9 @@ private:
   // either form conserves total energy exactly in the semi-discrete sense.
   // grad_i W_ij is the average of both supports' gradients, which keeps the pair force
   // antisymmetric (momentum conserved to round-off) for unequal h.
-  template <bool Balsara, bool RhoProduct> void ratesLoop(const neighbors::NeighborList& nl) {
+  template <bool Balsara, bool RhoProduct, bool Solid>
+  void ratesLoop(const neighbors::NeighborList& nl) {
+    using MatD = Tensor<Dim>;
     const auto x = s_[f_.x];
     const auto v = s_[f_.v];
     const auto h = s_[f_.h];
@@ -161,6 +207,16 @@ private:
     const auto muMax = s_[f_.muMax];
     const auto divv = Balsara ? s_[f_.divv] : std::span<double>{};
     const auto curlv = Balsara ? s_[f_.curlv] : std::span<double>{};
+    const auto Sdev = Solid ? s_[f_.S] : std::span<Tensor<3>>{};
+    const auto Lgrad = Solid ? s_[f_.L] : std::span<Tensor<3>>{};
+    // S_j / rho_j^2 (or S_j / rho_j for the product form) of every row, ghosts included, once:
+    // the pair loop then only adds and multiplies.
+    if constexpr (Solid) {
+      sOverRho_.resize(s_.size());
+      for (std::size_t j = 0; j < s_.size(); ++j)
+        sOverRho_[j] =
+            Sdev[j].template topLeftCorner<Dim, Dim>() / (RhoProduct ? rho[j] : rho[j] * rho[j]);
+    }
     const double alpha = cfg_.artificial_viscosity.alpha, beta = cfg_.artificial_viscosity.beta;
     const double sigma = K::sigma();
     const std::size_t n = s_.localCount();
@@ -175,6 +231,13 @@ private:
       double dei = 0.0, drhoi = 0.0, psii = 0.0, mui = 0.0, divi = 0.0;
       [[maybe_unused]] Eigen::Matrix<double, Dim == 3 ? 3 : 1, 1> curli;
       if constexpr (Balsara) curli.setZero();
+      // Solids: S_i / rho_i^2 (or S_i alone for the product form) in the Dim x Dim block, and the
+      // velocity gradient L_i = -sum_j (m_j/rho_j) v_ij (x) grad_i W_ij.
+      [[maybe_unused]] MatD SiOwn, Li;
+      if constexpr (Solid) {
+        SiOwn = sOverRho_[i]; // S_i/rho_i^2, or S_i/rho_i for the product form
+        Li.setZero();
+      }
 
       for (std::uint32_t j : nl.of(i)) {
         const Vec<Dim> xij = xi - x[j];
@@ -206,6 +269,22 @@ private:
         const double mj = m[j];
         ai.noalias() -= (mj * term) * gradW;
         const double vgrad = vij.dot(gradW);
+        if constexpr (Solid) {
+          // sigma = -p I + S: the deviatoric part of Lam et al. Eqs. 20-21 in tensor form; the
+          // energy share is -S_i/rho_i^2 : (m_j v_ij (x) grad W), which with the momentum term
+          // conserves total energy pair by pair.
+          // rho^2 form: (S_i/rho_i^2 + S_j/rho_j^2) grad W; product form: the same with
+          // S/rho on both sides, divided by the other density.
+          const Vec<Dim> tI = SiOwn * gradW, tJ = sOverRho_[j] * gradW;
+          if constexpr (RhoProduct) {
+            ai.noalias() += (mj / rhoj) * tI + (mj / rhoi) * tJ;
+            dei -= (mj / rhoj) * vij.dot(tI);
+          } else {
+            ai.noalias() += mj * (tI + tJ);
+            dei -= mj * vij.dot(tI);
+          }
+          Li.noalias() -= (mj / rhoj) * (vij * gradW.transpose());
+        }
         // Each particle takes its own p dV share of the pair's work and half the viscous
         // heating: e_i gains (p_i/rho_i^2 + Pi_ij/2) m_j v_ij . grad W (Monaghan 1992), or
         // p_i/(rho_i rho_j) in the product form. Summed over pairs this equals Lam et al.'s
@@ -224,6 +303,10 @@ private:
       }
       acc[i] = ai;
       dedt[i] = dei;
+      if constexpr (Solid) {
+        Lgrad[i].setZero();
+        Lgrad[i].template topLeftCorner<Dim, Dim>() = Li;
+      }
       // Continuity, d rho_i/dt = -rho_i div v_i with div v_i = -sum_j (m_j/rho_j) v_ij . grad
       // W(r_ij, h_i): volume-weighted, so it stays accurate across a material interface with a
       // large density jump, and with i's own support (gather), so that it stays consistent where h
@@ -247,6 +330,8 @@ private:
 
   SolverConfig cfg_;
   std::vector<materials::Eos> eos_;
+  std::vector<std::optional<materials::Strength>> strength_;
+  std::vector<Tensor<Dim>> sOverRho_; // scratch of the force loop (solids)
   ParticleStore& s_;
   SphFields<Dim> f_;
   kernels::PsiTable psi_;

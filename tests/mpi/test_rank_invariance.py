@@ -52,7 +52,10 @@ def check(cond, message):
 # Shortened where the full run is long: the point is the rank count, not the physics.
 CASES = [("sod_1d.toml", []), ("rod_impact_copper.toml", ["run.end_time=6e-6"]),
          ("noh_2d.toml", ["run.end_time=0.05", "run.resolution=0.5"]),
-         ("periodic_shear_2d.toml", [])]
+         ("periodic_shear_2d.toml", []),
+         # strength: the deviatoric stress travels with the halo and is mirrored at walls
+         ("rod_impact_copper_strength.toml", ["run.end_time=6e-6", "body.striker.velocity=[200.0]"]),
+         ("taylor_bar_3d.toml", ["run.resolution=0.4", "run.max_steps=20"])]
 
 with tempfile.TemporaryDirectory() as tmp:
     tmp = Path(tmp)

@@ -183,6 +183,15 @@ with tempfile.TemporaryDirectory() as tmp:
     same_state(rod_full, rod_half, "rod impact, 2 ranks, T + restart")
     same_logs(rod_full, rod_half, "rod impact, 2 ranks")
 
+    # Strength: S, plastic strain and the last velocity gradient are checkpointed too (200 m/s:
+    # the material has yielded at the checkpoint).
+    rod = SRC / "decks/rod_impact_copper_strength.toml"
+    full, half = tmp / "rods_full", tmp / "rods_half"
+    run(rod, 1, full, ["run.end_time=6e-6", "body.striker.velocity=[200.0]"])
+    run(rod, 1, half, ["run.end_time=3e-6", "body.striker.velocity=[200.0]"])
+    run(rod, 1, half, ["run.end_time=6e-6", "body.striker.velocity=[200.0]"], restart="latest")
+    same_state(full, half, "rod impact with strength, T + restart")
+
     # ---- N to M ------------------------------------------------------------------------------
     ckpt = tmp / "half2" / "checkpoints"
     for ranks in (1, 3):

@@ -70,9 +70,20 @@ struct EosConfig {
   double gamma = 0.0;                     // ideal_gas
   double bulk_modulus = 0.0;              // linear
   double c0 = 0.0, s = 0.0, gamma0 = 0.0; // mie_gruneisen (Lam et al. 2001, Eqs. 4-6)
-  // tillotson (parsed and validated now; the EOS itself arrives with the solid-mechanics work)
+  // tillotson (Tillotson 1962; materials/Eos.hpp)
   double a = 0.0, b = 0.0, A = 0.0, B = 0.0, alpha = 0.0, beta = 0.0;
   double e0 = 0.0, e_iv = 0.0, e_cv = 0.0;
+  SourceLocation where;
+};
+
+// strength = {type = ...} (INTERFACE.md; materials/Strength.hpp for the models).
+struct StrengthConfig {
+  std::string type = "none"; // "none" | "elastic" | "von_mises" | "johnson_cook"
+  double shear_modulus = 0.0, yield_stress = 0.0;
+  // johnson_cook
+  double A = 0.0, B = 0.0, n = 1.0, C = 0.0, m = 1.0, reference_strain_rate = 1.0;
+  double room_temperature = 293.0, melt_temperature = 0.0, specific_heat = 0.0;
+  double taylor_quinney = 0.9;
   SourceLocation where;
 };
 
@@ -80,7 +91,7 @@ struct MaterialConfig {
   std::string name;
   double density = 0.0; // reference density rho0
   EosConfig eos;
-  std::string strength = "none";
+  StrengthConfig strength;
   SourceLocation where;
 };
 

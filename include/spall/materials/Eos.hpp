@@ -93,7 +93,80 @@ struct MieGruneisen {
   }
 };
 
-using Eos = std::variant<IdealGas, LinearEos, MieGruneisen>;
+// Tillotson (1962) EOS in the form used for planetary impacts (e.g. Melosh 1989, Sec. 3.5):
+//   eta = rho/rho0, mu = eta - 1, w = e/(E0 eta^2) + 1
+//   compressed (mu >= 0) and cold expanded (e <= E_iv):
+//     p_c = (a + b/w) rho e + A mu + B mu^2
+//   hot expanded (e >= E_cv, mu < 0):
+//     p_e = a rho e + [b rho e / w + A mu exp(-beta (1/eta - 1))] exp(-alpha (1/eta - 1)^2)
+//   in between, p = ((e - E_iv) p_e + (E_cv - e) p_c) / (E_cv - E_iv), so p is continuous in e.
+// cs^2 = (dp/drho)_e + p/rho^2 (dp/de)_rho, from the analytic derivatives of each branch, with a
+// floor of A/rho0 / 100 (the cold expanded branch can give cs^2 <= 0 in deep tension).
+struct Tillotson {
+  double rho0 = 1.0;
+  double a = 0.5, b = 1.5; // dimensionless
+  double A = 1.0, B = 1.0; // Pa
+  double alpha = 5.0, beta = 5.0;
+  double E0 = 1.0;             // J/kg
+  double Eiv = 1.0, Ecv = 2.0; // incipient and complete vaporisation energies, J/kg
+
+  struct Branch {
+    double p, dpdrho, dpde;
+  };
+  Branch compressed(double rho, double e) const {
+    const double eta = rho / rho0, mu = eta - 1.0;
+    const double w = e / (E0 * eta * eta) + 1.0;
+    const double dwdrho = -2.0 * e / (E0 * eta * eta * eta * rho0), dwde = 1.0 / (E0 * eta * eta);
+    const double f = a + b / w;
+    const double p = f * rho * e + A * mu + B * mu * mu;
+    const double dpdrho = f * e - b / (w * w) * dwdrho * rho * e + (A + 2.0 * B * mu) / rho0;
+    const double dpde = f * rho - b / (w * w) * dwde * rho * e;
+    return {p, dpdrho, dpde};
+  }
+  Branch expanded(double rho, double e) const {
+    const double eta = rho / rho0, mu = eta - 1.0;
+    const double w = e / (E0 * eta * eta) + 1.0;
+    const double dwdrho = -2.0 * e / (E0 * eta * eta * eta * rho0), dwde = 1.0 / (E0 * eta * eta);
+    const double z = 1.0 / eta - 1.0, dzdrho = -rho0 / (rho * rho);
+    const double g = std::exp(-alpha * z * z), dgdrho = -2.0 * alpha * z * dzdrho * g;
+    const double h = std::exp(-beta * z), dhdrho = -beta * dzdrho * h;
+    const double inner = b * rho * e / w + A * mu * h;
+    const double dinner_drho =
+        b * e / w - b * rho * e / (w * w) * dwdrho + A / rho0 * h + A * mu * dhdrho;
+    const double dinner_de = b * rho / w - b * rho * e / (w * w) * dwde;
+    const double p = a * rho * e + inner * g;
+    return {p, a * e + dinner_drho * g + inner * dgdrho, a * rho + dinner_de * g};
+  }
+  Branch branch(double rho, double e) const {
+    if (rho >= rho0 || e <= Eiv) return compressed(rho, e);
+    if (e >= Ecv) return expanded(rho, e);
+    const Branch c = compressed(rho, e), x = expanded(rho, e);
+    const double span = Ecv - Eiv, wE = (e - Eiv) / span, wC = (Ecv - e) / span;
+    return {wE * x.p + wC * c.p, wE * x.dpdrho + wC * c.dpdrho,
+            wE * x.dpde + wC * c.dpde + (x.p - c.p) / span};
+  }
+  EosState evaluate(double rho, double e) const {
+    const Branch t = branch(rho, e);
+    const double cs2 = std::max(t.dpdrho + t.p / (rho * rho) * t.dpde, 0.01 * A / rho0);
+    return {t.p, std::sqrt(cs2)};
+  }
+  double dpdrho(double rho, double e) const { return branch(rho, e).dpdrho; }
+  std::optional<double> energyForPressure(double rho, double p) const {
+    // Only the compressed/cold branch is inverted (initial states): p_c is linear-fractional in e
+    // there, solved by a few Newton steps from e = 0.
+    double e = 0.0;
+    for (int k = 0; k < 50; ++k) {
+      const Branch c = compressed(rho, e);
+      if (c.dpde <= 0.0) return std::nullopt;
+      const double de = (p - c.p) / c.dpde;
+      e += de;
+      if (std::abs(de) <= 1e-14 * std::max(1.0, std::abs(e))) return e;
+    }
+    return std::nullopt;
+  }
+};
+
+using Eos = std::variant<IdealGas, LinearEos, MieGruneisen, Tillotson>;
 
 inline EosState evaluate(const Eos& eos, double rho, double e) {
   return std::visit([&](const auto& m) { return m.evaluate(rho, e); }, eos);

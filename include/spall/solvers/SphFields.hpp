@@ -18,8 +18,15 @@ template <int Dim> struct SphFields {
   Field<double> psi0;        // Owen (2010) Eq. 1, before the 1/nu root
   Field<double> muMax;       // largest viscous mu_ij, for the time step
   Field<double> divv, curlv; // Balsara switch inputs (|curl v|); registered only when used
+  // Solids (registered only when a material has strength): the deviatoric stress (always 3x3:
+  // the out-of-plane components of plane and uniaxial strain are real), the velocity gradient of
+  // the last force evaluation (Dim x Dim, embedded in 3x3), plastic strain, temperature.
+  Field<Tensor<3>> S, L;
+  Field<double> plasticStrain, temperature;
 
-  void registerIn(ParticleStore& s, bool balsara) {
+  bool hasStrength() const { return S.valid(); }
+
+  void registerIn(ParticleStore& s, bool balsara, bool strength = false) {
     constexpr unsigned out = kOutput | kCheckpoint, ck = kCheckpoint, none = 0;
     id = s.add<ParticleId>("id", out);
     x = s.add<Vec<Dim>>("position", out);
@@ -43,6 +50,12 @@ template <int Dim> struct SphFields {
     if (balsara) {
       divv = s.add<double>("velocity_divergence", ck);
       curlv = s.add<double>("velocity_curl", ck);
+    }
+    if (strength) {
+      S = s.add<Tensor<3>>("deviatoric_stress", ck);
+      L = s.add<Tensor<3>>("velocity_gradient", ck);
+      plasticStrain = s.add<double>("plastic_strain", out);
+      temperature = s.add<double>("temperature", out);
     }
   }
 };

@@ -7,10 +7,12 @@
 #include "spall/kernels/Kernels.hpp"
 #include "spall/kernels/PsiTable.hpp"
 #include "spall/materials/Eos.hpp"
+#include "spall/materials/Strength.hpp"
 #include "spall/neighbors/NeighborList.hpp"
 #include "spall/solvers/SphFields.hpp"
 
 #include <memory>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -35,11 +37,15 @@ public:
   virtual std::pair<double, std::size_t> stableTimeStep() const = 0;
   // The effective nodes per h measured by the last computeRates, for diagnostics.
   virtual double nodesPerH(std::size_t i) const = 0;
+  // Advances the deviatoric stress (and plastic strain, temperature) of the particles whose
+  // material has strength over dt with the velocity gradient of the last force evaluation.
+  virtual void updateStrength(double dt) = 0;
 };
 
 struct SolverSetup {
   SolverConfig config;
-  std::vector<materials::Eos> eos; // by material index
+  std::vector<materials::Eos> eos;                          // by material index
+  std::vector<std::optional<materials::Strength>> strength; // by material index; none: fluid
 };
 
 // Picks the kernel instantiation once, from the deck.

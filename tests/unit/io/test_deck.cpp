@@ -257,7 +257,7 @@ TEST_F(DeckTest, Valid1DDeckHasTypedValues) {
   EXPECT_DOUBLE_EQ(d.materials[0].eos.c0, 3940.0);
   EXPECT_DOUBLE_EQ(d.materials[0].eos.s, 1.49);
   EXPECT_DOUBLE_EQ(d.materials[0].eos.gamma0, 2.02);
-  EXPECT_EQ(d.materials[0].strength, "none");
+  EXPECT_EQ(d.materials[0].strength.type, "none");
   ASSERT_EQ(d.bodies.size(), 2u);
   EXPECT_EQ(d.bodies[0].name, "striker");
   EXPECT_EQ(d.bodies[0].material_index, 0);
@@ -504,9 +504,16 @@ TEST_F(DeckTest, AsphIsNotAvailableYet) {
   expectError(withLine(kDeck1D, 7, "method = \"asph\""), 7, 10, "'asph' is not available yet");
 }
 
-TEST_F(DeckTest, StrengthModelsAreNotAvailableYet) {
-  expectError(withLine(kDeck1D, 15, "strength = { type = \"von_mises\" }"), 15, 21,
-              "strength type 'von_mises' is not available yet");
+TEST_F(DeckTest, StrengthModelsNeedTheirParameters) {
+  expectError(withLine(kDeck1D, 15, "strength = { type = \"cap\" }"), 15, 21,
+              "strength type 'cap' arrives with the geomaterials work");
+  expectError(withLine(kDeck1D, 15,
+                       "strength = { type = \"von_mises\", shear_modulus = 4.5e10, "
+                       "yield_stress = -1.0 }"),
+              15, 73, "yield_stress");
+  expectError(withLine(kDeck1D, 15,
+                       "strength = { type = \"elastic\", shear_modulus = 4.5e10, yield = 1.0 }"),
+              15, 56, "unknown key 'yield'");
 }
 
 TEST_F(DeckTest, CylinderIs3DOnlyAndRingIs2DOnly) {

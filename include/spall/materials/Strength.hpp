@@ -1,0 +1,145 @@
+#pragma once
+// Strength models: pure functions (state, L, dt) -> state for the deviatoric stress S of a
+// hypoelastic-plastic solid. No particles, no MPI: the SPH solver and the single-element driver
+// call the very same code. Always 3x3: in 1D (uniaxial strain) and 2D (plane strain) the
+// out-of-plane deviatoric components are real and enter the yield condition.
+//
+// Objective rate: S is carried by the Jaumann rate, dS/dt = 2 G D' + W S - S W (Owen 2010 and
+// Lam et al. 2001 name the hypoelastic form; Austin 2013, Sec. 2.3 works in the unrotated frame
+// instead). Over a step the rotation is applied exactly orthogonally, in two halves around the
+// strain increment: Q = (I - W dt/4)^-1 (I + W dt/4) (the Hughes & Winget 1980 rotation of half
+// a step), S_new = Q (Q S Q^T + 2 G dt D') Q^T. A rigid rotation, however large, then never
+// changes the invariants, and the unrotated stress of a rotating stretch is right to second
+// order in dt (Austin 2013, Sec. 4.1.1.1: frame indifference).
+// Plasticity: radial return to the von Mises cylinder (J2), with Johnson-Cook hardening, rate
+// and thermal softening, and plastic heating dT = chi sigma_y d eps_p / (rho c_p)
+// (Austin 2013, Eq. 6.7).
+#include "spall/core/Types.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <variant>
+
+namespace spall::materials {
+
+using Mat3 = Tensor<3>;
+
+struct StrengthState {
+  Mat3 S = Mat3::Zero();      // deviatoric Cauchy stress, Pa
+  double plasticStrain = 0.0; // equivalent plastic strain
+  double temperature = 0.0;   // K (Johnson-Cook only; others leave it alone)
+};
+
+// The elastic trial step shared by every model: rotate S with the spin, add 2 G D' dt.
+inline Mat3 elasticTrial(const Mat3& S, const Mat3& L, double dt, double G) {
+  const Mat3 D = 0.5 * (L + L.transpose());
+  const Mat3 W = 0.5 * (L - L.transpose());
+  const Mat3 I = Mat3::Identity();
+  const Mat3 Q = (I - 0.25 * dt * W).inverse() * (I + 0.25 * dt * W);
+  const Mat3 Ddev = D - (D.trace() / 3.0) * I;
+  return Q * (Q * S * Q.transpose() + (2.0 * G * dt) * Ddev) * Q.transpose();
+}
+
+// sqrt(3/2 S:S), the von Mises equivalent stress of a deviator.
+inline double vonMisesStress(const Mat3& S) {
+  return std::sqrt(1.5 * S.squaredNorm());
+}
+
+// sqrt(2/3 D':D'), the equivalent (total) deviatoric strain rate.
+inline double equivalentStrainRate(const Mat3& L) {
+  const Mat3 D = 0.5 * (L + L.transpose());
+  const Mat3 Ddev = D - (D.trace() / 3.0) * Mat3::Identity();
+  return std::sqrt(2.0 / 3.0 * Ddev.squaredNorm());
+}
+
+// strength = {type = "elastic", shear_modulus}
+struct Elastic {
+  double G = 0.0;
+  StrengthState update(const StrengthState& s, const Mat3& L, double dt, double /*rho*/) const {
+    StrengthState out = s;
+    out.S = elasticTrial(s.S, L, dt, G);
+    return out;
+  }
+  double shearModulus() const { return G; }
+};
+
+// strength = {type = "von_mises", shear_modulus, yield_stress}: perfect plasticity.
+struct VonMises {
+  double G = 0.0;
+  double Y = 0.0;
+  StrengthState update(const StrengthState& s, const Mat3& L, double dt, double /*rho*/) const {
+    StrengthState out = s;
+    out.S = elasticTrial(s.S, L, dt, G);
+    const double q = vonMisesStress(out.S);
+    if (q > Y) {
+      // Radial return: the plastic strain increment that brings q back to Y is (q - Y) / 3G.
+      out.plasticStrain += (q - Y) / (3.0 * G);
+      out.S *= Y / q;
+    }
+    return out;
+  }
+  double shearModulus() const { return G; }
+};
+
+// strength = {type = "johnson_cook", shear_modulus, A, B, n, C, m, reference_strain_rate,
+//             room_temperature, melt_temperature, specific_heat, taylor_quinney}
+// sigma_y = (A + B eps_p^n)(1 + C ln max(rate/rate0, 1))(1 - T*^m), T* = (T - Troom)/(Tmelt -
+// Troom) (Johnson & Cook 1983). The rate is the total equivalent strain rate of the step; below the
+// reference rate the rate term is 1. At or above the melt temperature the material carries no
+// shear (Austin 2013, Eq. 6.6).
+struct JohnsonCook {
+  double G = 0.0;
+  double A = 0.0, B = 0.0, n = 1.0, C = 0.0, m = 1.0;
+  double rate0 = 1.0;
+  double Troom = 293.0, Tmelt = 1356.0;
+  double cp = 385.0; // specific heat, J/(kg K)
+  double chi = 0.9;  // Taylor-Quinney coefficient
+
+  double thermalFactor(double T) const {
+    const double Tstar = (T - Troom) / (Tmelt - Troom);
+    if (Tstar <= 0.0) return 1.0;
+    if (Tstar >= 1.0) return 0.0;
+    return 1.0 - std::pow(Tstar, m);
+  }
+  double rateFactor(double rate) const { return 1.0 + C * std::log(std::max(rate / rate0, 1.0)); }
+  double hardening(double eps) const { return A + B * (eps > 0.0 ? std::pow(eps, n) : 0.0); }
+
+  StrengthState update(const StrengthState& s, const Mat3& L, double dt, double rho) const {
+    StrengthState out = s;
+    out.S = elasticTrial(s.S, L, dt, G);
+    const double factor = rateFactor(equivalentStrainRate(L)) * thermalFactor(s.temperature);
+    if (factor <= 0.0) { // molten
+      out.S.setZero();
+      return out;
+    }
+    const double q = vonMisesStress(out.S);
+    const auto yield = [&](double eps) { return hardening(eps) * factor; };
+    if (q <= yield(s.plasticStrain)) return out;
+    // g(d) = q - 3 G d - Y(eps + d) decreases in d from g(0) > 0 to g(q/3G) <= 0: bisection keeps
+    // a bracket, the secant step converges fast inside it (the hardening curve is smooth).
+    double lo = 0.0, hi = q / (3.0 * G);
+    double glo = q - yield(s.plasticStrain), ghi = -yield(s.plasticStrain + hi);
+    double d = hi * glo / (glo - ghi);
+    for (int k = 0; k < 60; ++k) {
+      const double g = q - 3.0 * G * d - yield(s.plasticStrain + d);
+      if (std::abs(g) <= 1e-12 * q) break;
+      if (g > 0.0)
+        lo = d, glo = g;
+      else
+        hi = d, ghi = g;
+      const double secant = lo + (hi - lo) * glo / (glo - ghi);
+      d = (secant > lo && secant < hi) ? secant : 0.5 * (lo + hi);
+      if (hi - lo <= 1e-15 * std::max(hi, 1e-300)) break;
+    }
+    const double Y = yield(s.plasticStrain + d);
+    out.S *= Y / q;
+    out.plasticStrain += d;
+    out.temperature += chi * Y * d / (rho * cp); // Austin (2013), Eq. 6.7
+    return out;
+  }
+  double shearModulus() const { return G; }
+};
+
+using Strength = std::variant<Elastic, VonMises, JohnsonCook>;
+
+} // namespace spall::materials
