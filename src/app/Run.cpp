@@ -610,19 +610,10 @@ private:
       const auto w =
           io::writeCheckpoint(mpi_.comm(), (ckDir / name).string(), store_, time_, step_, Dim,
                               BuildInfo::version(), saveState(dtNext, wallOffset_ + wall));
-      int ok = 1;
-      std::string error;
-      if (mpi_.root()) {
-        try {
-          publishLatest(ckDir, name);
-          pruneCheckpoints(ckDir, checkpointKeep());
-        } catch (const std::exception& e) {
-          ok = 0;
-          error = e.what();
-        }
-      }
-      MPI_Bcast(&ok, 1, MPI_INT, 0, mpi_.comm());
-      if (!ok) throw RunError(mpi_.root() ? error : "updating checkpoints/latest failed on rank 0");
+      parallel::onRoot<RunError>(mpi_.comm(), [&] {
+        publishLatest(ckDir, name);
+        pruneCheckpoints(ckDir, checkpointKeep());
+      });
       ++checkpointsWritten_;
       checkpointBytes_ = w.bytes;
       checkpointWriteSeconds_ += w.seconds;
@@ -1075,22 +1066,6 @@ void prepareOutputDirectory(const fs::path& dir, const RunOptions& options) {
   for (const char* name : ours) fs::remove_all(dir / name);
 }
 
-// Rank 0 decides, every rank throws the same UsageError.
-template <class F> void onRootAgreed(const parallel::MpiContext& mpi, F&& f) {
-  int ok = 1;
-  std::string message;
-  if (mpi.root()) {
-    try {
-      f();
-    } catch (const UsageError& e) {
-      ok = 0;
-      message = e.what();
-    }
-  }
-  MPI_Bcast(&ok, 1, MPI_INT, 0, mpi.comm());
-  if (!ok) throw UsageError(mpi.root() ? message : std::string("refused on rank 0"));
-}
-
 template <int Dim>
 void runDim(const Deck& deck, const RunOptions& options, const parallel::MpiContext& mpi) {
   if (options.restart && options.overwrite)
@@ -1100,28 +1075,27 @@ void runDim(const Deck& deck, const RunOptions& options, const parallel::MpiCont
       options.outputDir ? fs::path(*options.outputDir) : fs::path(deck.output.directory);
   Simulation<Dim> sim(deck, mpi); // every deck error surfaces here, before anything is written
   if (options.restart) {
+    // Rank 0 looks at the directory; every rank needs the same list (one line each: the
+    // fallback flag, what is wrong with `latest`, then the files).
+    std::string text;
+    parallel::onRoot<UsageError>(mpi.comm(), [&] {
+      const RestartCandidates c = restartCandidates(dir, *options.restart);
+      text = (c.fallback ? "1\n" : "0\n") + c.problem + "\n";
+      for (const auto& f : c.files) text += f.string() + "\n";
+    });
+    parallel::broadcast(text, 0, mpi.comm());
     RestartCandidates candidates;
-    onRootAgreed(mpi, [&] { candidates = restartCandidates(dir, *options.restart); });
-    // Every rank needs the same list: rank 0 looked at the directory, the others follow.
-    std::string joined;
-    for (const auto& f : candidates.files) joined += f.string() + "\n";
-    int flags[2] = {static_cast<int>(joined.size()), candidates.fallback ? 1 : 0};
-    MPI_Bcast(flags, 2, MPI_INT, 0, mpi.comm());
-    joined.resize(static_cast<std::size_t>(flags[0]));
-    MPI_Bcast(joined.data(), flags[0], MPI_CHAR, 0, mpi.comm());
-    int problemSize = static_cast<int>(candidates.problem.size());
-    MPI_Bcast(&problemSize, 1, MPI_INT, 0, mpi.comm());
-    candidates.problem.resize(static_cast<std::size_t>(problemSize));
-    MPI_Bcast(candidates.problem.data(), problemSize, MPI_CHAR, 0, mpi.comm());
-    candidates.fallback = flags[1] != 0;
-    candidates.files.clear();
-    std::istringstream lines(joined);
-    for (std::string line; std::getline(lines, line);) candidates.files.emplace_back(line);
+    std::istringstream lines(text);
+    std::string line;
+    std::getline(lines, line);
+    candidates.fallback = line == "1";
+    std::getline(lines, candidates.problem);
+    while (std::getline(lines, line)) candidates.files.emplace_back(line);
     sim.resume(candidates); // nothing written yet: a bad checkpoint leaves the directory as it was
   } else {
     sim.generate();
   }
-  onRootAgreed(mpi, [&] { prepareOutputDirectory(dir, options); });
+  parallel::onRoot<UsageError>(mpi.comm(), [&] { prepareOutputDirectory(dir, options); });
   sim.run(options, dir);
 }
 

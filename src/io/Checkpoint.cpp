@@ -1,12 +1,12 @@
 #include "spall/io/Checkpoint.hpp"
 
 #include "Hdf5Util.hpp"
+#include "spall/parallel/Mpi.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>
 
 #include <chrono>
-#include <climits>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -28,31 +28,6 @@ std::uint64_t mix(std::uint64_t z) { // splitmix64 finaliser
   z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
   z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
   return z ^ (z >> 31);
-}
-
-// ---- collective agreement on failure ---------------------------------------------------------
-
-// Runs f on every rank; if any rank throws, every rank throws a CheckpointError carrying the
-// lowest failing rank's message. No rank is left waiting in a collective call the others skipped.
-template <class F> void agree(MPI_Comm comm, F&& f) {
-  std::string message;
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
-  int mine = INT_MAX;
-  try {
-    f();
-  } catch (const std::exception& e) {
-    message = e.what();
-    mine = rank;
-  }
-  int first = INT_MAX;
-  MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm);
-  if (first == INT_MAX) return;
-  int length = static_cast<int>(message.size());
-  MPI_Bcast(&length, 1, MPI_INT, first, comm);
-  message.resize(static_cast<std::size_t>(length));
-  MPI_Bcast(message.data(), length, MPI_CHAR, first, comm);
-  throw CheckpointError(message);
 }
 
 // ---- writing ---------------------------------------------------------------------------------
@@ -213,23 +188,15 @@ CheckpointWrite writeCheckpoint(MPI_Comm comm, const std::string& path, const Pa
     file.close(tmp, "H5Fclose");
   }
 
-  // Publish: rank 0 syncs the file, renames it and syncs the directory; the broadcast keeps
+  // Publish: rank 0 syncs the file, renames it and syncs the directory; the agreement keeps
   // the other ranks from going on before the checkpoint exists under its name.
-  std::string error;
-  if (root) {
-    try {
-      syncPath(tmp, false);
-      if (std::rename(tmp.c_str(), path.c_str()) != 0)
-        throw RunError(path + ": cannot rename " + tmp + " to it: " + std::strerror(errno));
-      const auto parent = std::filesystem::path(path).parent_path();
-      syncPath(parent.empty() ? "." : parent.string(), true);
-    } catch (const std::exception& e) {
-      error = e.what();
-    }
-  }
-  int ok = error.empty() ? 1 : 0;
-  MPI_Bcast(&ok, 1, MPI_INT, 0, comm);
-  if (!ok) throw RunError(root ? error : path + ": publishing the checkpoint failed on rank 0");
+  parallel::onRoot<RunError>(comm, [&] {
+    syncPath(tmp, false);
+    if (std::rename(tmp.c_str(), path.c_str()) != 0)
+      throw RunError(path + ": cannot rename " + tmp + " to it: " + std::strerror(errno));
+    const auto parent = std::filesystem::path(path).parent_path();
+    syncPath(parent.empty() ? "." : parent.string(), true);
+  });
 
   CheckpointWrite out;
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -269,17 +236,6 @@ std::uint64_t readChecksum(hid_t dset, const std::string& path, const std::strin
   if (H5Aexists(dset, "checksum") <= 0)
     throw CheckpointError(path + ": " + what + " has no checksum");
   return hdf5::readScalarAttribute<std::uint64_t>(dset, "checksum", H5T_NATIVE_UINT64, path);
-}
-
-std::string datasetName(hid_t group, hsize_t i, const std::string& path) {
-  const ssize_t len =
-      H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0, H5P_DEFAULT);
-  if (len < 0) fail(path, "H5Lget_name_by_idx");
-  std::string name(static_cast<std::size_t>(len) + 1, '\0');
-  H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(), name.size(),
-                     H5P_DEFAULT);
-  name.resize(static_cast<std::size_t>(len));
-  return name;
 }
 
 template <class T>
@@ -351,7 +307,7 @@ CheckpointHeader readHeaderLocal(const std::string& path) {
     H5G_info_t info;
     check(H5Gget_info(state, &info), path, "H5Gget_info");
     for (hsize_t i = 0; i < info.nlinks; ++i) {
-      const std::string name = datasetName(state, i, path);
+      const std::string name = hdf5::linkName(state, i, path);
       const std::string what = "state/" + name;
       Handle d(H5Dopen2(state, name.c_str(), H5P_DEFAULT), H5Dclose, path,
                "H5Dopen2(" + what + ")");
@@ -380,7 +336,7 @@ CheckpointHeader readHeaderLocal(const std::string& path) {
     check(H5Gget_info(particles, &info), path, "H5Gget_info");
     for (hsize_t i = 0; i < info.nlinks; ++i) {
       FieldInfo f;
-      f.name = datasetName(particles, i, path);
+      f.name = hdf5::linkName(particles, i, path);
       Handle d(H5Dopen2(particles, f.name.c_str(), H5P_DEFAULT), H5Dclose, path,
                "H5Dopen2(" + f.name + ")");
       Handle type(H5Dget_type(d), H5Tclose, path, "H5Dget_type");
@@ -410,7 +366,7 @@ CheckpointHeader readHeaderLocal(const std::string& path) {
 
 CheckpointHeader readCheckpointHeader(MPI_Comm comm, const std::string& path) {
   CheckpointHeader h;
-  agree(comm, [&] { h = readHeaderLocal(path); });
+  parallel::agreeOnFailure<CheckpointError>(comm, [&] { h = readHeaderLocal(path); });
   return h;
 }
 
@@ -459,7 +415,7 @@ std::uint64_t readCheckpointParticles(MPI_Comm comm, const CheckpointHeader& hea
   std::vector<std::uint64_t> sums(columns.size(), 0), expected(columns.size(), 0);
   std::uint64_t bytes = 0;
   try {
-    agree(comm, [&] {
+    parallel::agreeOnFailure<CheckpointError>(comm, [&] {
       hdf5::Quiet quiet;
       try {
         Handle file(openForReading(path), H5Fclose, path, "H5Fopen");

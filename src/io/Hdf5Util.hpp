@@ -119,6 +119,18 @@ inline void writeStringAttribute(hid_t loc, const char* name, const std::string&
   writeScalarAttribute(loc, name, type, type, value.c_str(), path);
 }
 
+// The name of the i-th link of a group, in name order.
+inline std::string linkName(hid_t group, hsize_t i, const std::string& path) {
+  const ssize_t len =
+      H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0, H5P_DEFAULT);
+  if (len < 0) fail(path, "H5Lget_name_by_idx");
+  std::string name(static_cast<std::size_t>(len) + 1, '\0');
+  H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(), name.size(),
+                     H5P_DEFAULT);
+  name.resize(static_cast<std::size_t>(len));
+  return name;
+}
+
 template <class T>
 T readScalarAttribute(hid_t loc, const char* name, hid_t memT, const std::string& path) {
   Handle attr(H5Aopen(loc, name, H5P_DEFAULT), H5Aclose, path,

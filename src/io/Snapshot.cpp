@@ -92,13 +92,7 @@ SnapshotData readSnapshot(const std::string& path) {
   check(H5Gget_info(group, &info), path, "H5Gget_info");
   bool first = true;
   for (hsize_t i = 0; i < info.nlinks; ++i) {
-    const ssize_t len =
-        H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0, H5P_DEFAULT);
-    if (len < 0) fail(path, "H5Lget_name_by_idx");
-    std::string name(static_cast<std::size_t>(len) + 1, '\0');
-    H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(), name.size(),
-                       H5P_DEFAULT);
-    name.resize(static_cast<std::size_t>(len));
+    const std::string name = hdf5::linkName(group, i, path);
 
     Handle dset(H5Dopen2(group, name.c_str(), H5P_DEFAULT), H5Dclose, path,
                 ("H5Dopen2(" + name + ")").c_str());

@@ -2,6 +2,13 @@
 
 namespace spall::parallel {
 
+void broadcast(std::string& s, int root, MPI_Comm comm) {
+  unsigned long long length = s.size();
+  MPI_Bcast(&length, 1, MPI_UNSIGNED_LONG_LONG, root, comm);
+  s.resize(static_cast<std::size_t>(length));
+  if (length > 0) MPI_Bcast(s.data(), static_cast<int>(length), MPI_CHAR, root, comm);
+}
+
 MpiContext::MpiContext(MPI_Comm comm) : comm_(comm) {
   MPI_Comm_rank(comm_, &rank_);
   MPI_Comm_size(comm_, &size_);

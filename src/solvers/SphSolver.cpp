@@ -64,26 +64,23 @@ public:
     const auto cs = s_[f_.cs];
     const auto mat = s_[f_.material];
     const std::size_t n = s_.localCount();
-    // One visit per material, then a plain loop: no dispatch per particle.
+    // One visit per material, then a plain loop: no dispatch per particle. A solid carries
+    // shear waves too: its signal speed (time step, viscosity) is the longitudinal one,
+    // sqrt(cs^2 + 4G/(3 rho)).
     for (std::size_t k = 0; k < eos_.size(); ++k) {
+      const double G =
+          strength_[k] ? std::visit([](const auto& m) { return m.shearModulus(); }, *strength_[k])
+                       : 0.0;
       std::visit(
           [&](const auto& model) {
             for (std::size_t i = 0; i < n; ++i) {
               if (mat[i] != static_cast<std::int32_t>(k)) continue;
               const auto st = model.evaluate(rho[i], e[i]);
               p[i] = st.p;
-              cs[i] = st.cs;
+              cs[i] = G > 0.0 ? std::sqrt(st.cs * st.cs + 4.0 * G / (3.0 * rho[i])) : st.cs;
             }
           },
           eos_[k]);
-      // A solid carries shear waves too: the signal speed of the time step and the viscosity is
-      // the longitudinal one, sqrt(cs^2 + 4G/(3 rho)).
-      if (strength_[k]) {
-        const double G = std::visit([](const auto& m) { return m.shearModulus(); }, *strength_[k]);
-        for (std::size_t i = 0; i < n; ++i)
-          if (mat[i] == static_cast<std::int32_t>(k))
-            cs[i] = std::sqrt(cs[i] * cs[i] + 4.0 * G / (3.0 * rho[i]));
-      }
     }
   }
 

@@ -2,8 +2,11 @@
 // The MPI context and the global reductions the run loop needs. Physics-free.
 #include <mpi.h>
 
+#include <climits>
 #include <cstdint>
+#include <exception>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace spall::parallel {
@@ -28,6 +31,50 @@ private:
   MPI_Comm comm_;
   int rank_ = 0, size_ = 1;
 };
+
+// Copies `root`'s string to every rank of comm.
+void broadcast(std::string& s, int root, MPI_Comm comm);
+
+// Collective error agreement, so that no rank is left waiting in a collective call that the
+// others skipped. agreeOnFailure runs f on every rank; if any rank throws, every rank throws
+// Error with the lowest failing rank's message. onRoot runs f on rank 0 alone (a decision about
+// files, say) and, if it throws, every rank throws Error with rank 0's message.
+template <class Error, class F> void agreeOnFailure(MPI_Comm comm, F&& f) {
+  std::string message;
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  int mine = INT_MAX;
+  try {
+    f();
+  } catch (const std::exception& e) {
+    message = e.what();
+    mine = rank;
+  }
+  int first = INT_MAX;
+  MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm);
+  if (first == INT_MAX) return;
+  broadcast(message, first, comm);
+  throw Error(message);
+}
+
+template <class Error, class F> void onRoot(MPI_Comm comm, F&& f) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  std::string message;
+  int failed = 0;
+  if (rank == 0) {
+    try {
+      f();
+    } catch (const std::exception& e) {
+      message = e.what();
+      failed = 1;
+    }
+  }
+  MPI_Bcast(&failed, 1, MPI_INT, 0, comm);
+  if (!failed) return;
+  broadcast(message, 0, comm);
+  throw Error(message);
+}
 
 // RAII MPI_Init_thread / MPI_Finalize for the executable.
 class MpiSession {
