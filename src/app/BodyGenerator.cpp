@@ -2,6 +2,7 @@
 
 #include "spall/kernels/Kernels.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
@@ -222,6 +223,8 @@ std::vector<BodySummary> generateBodies(const Deck& deck, const std::vector<mate
         const double rn = r.norm();
         if (rn > 0.0) v[k] += body.radial_velocity->speed / rn * r;
       }
+      if (body.cantilever_velocity)
+        v[k][1] += cantileverModeVelocity(*body.cantilever_velocity, xi[0]);
       m[k] = rho0 * s.volume;
       rho[k] = rho0;
       e[k] = e0;
@@ -234,6 +237,21 @@ std::vector<BodySummary> generateBodies(const Deck& deck, const std::vector<mate
     }
   }
   return summary;
+}
+
+// The first bending mode of a clamped-free beam (Euler-Bernoulli; the initial condition of Gray,
+// Monaghan & Swift 2001's oscillating plate): phi(xi) = cosh k xi - cos k xi - s (sinh k xi -
+// sin k xi), s = (cosh kL + cos kL)/(sinh kL + sin kL), with kL = 1.8751040687 the first root of
+// cos kL cosh kL = -1; scaled so that the free end moves at tip_speed.
+double cantileverModeVelocity(const CantileverVelocityConfig& c, double x) {
+  constexpr double kL = 1.8751040687119611;
+  const double xi = std::clamp(x - c.root[0], 0.0, c.length);
+  const double k = kL / c.length;
+  const double s = (std::cosh(kL) + std::cos(kL)) / (std::sinh(kL) + std::sin(kL));
+  const auto phi = [&](double z) {
+    return std::cosh(k * z) - std::cos(k * z) - s * (std::sinh(k * z) - std::sin(k * z));
+  };
+  return c.tip_speed * phi(xi) / phi(c.length);
 }
 
 template <int Dim>

@@ -119,6 +119,13 @@ public:
     const bool solids = std::any_of(strength_.begin(), strength_.end(),
                                     [](const auto& s) { return s.has_value(); });
     f_.registerIn(store_, deck.solver.artificial_viscosity.balsara, solids);
+    if (!solids && (deck.solver.artificial_stress.enabled ||
+                    deck.solver.velocity_gradient != VelocityGradient::Sph))
+      throw DeckError(deck.solver.where,
+                      "solver.artificial_stress and solver.velocity_gradient act on the stress of "
+                      "materials with strength, and no material in this deck has one");
+    for (std::size_t b = 0; b < deck.bodies.size(); ++b)
+      if (deck.bodies[b].fixed) fixedBodies_.push_back(static_cast<std::int32_t>(b));
     // Neighbors per particle from the last search: the load-balancing cost. Migrates, never
     // written.
     // Checkpointed: a restart on the same rank count then rebalances exactly as the run would have.
@@ -142,6 +149,7 @@ public:
     if (f_.divv.valid())
       haloFields_.push_back(f_.divv.index), haloFields_.push_back(f_.curlv.index);
     if (f_.hasStrength()) haloFields_.push_back(f_.S.index); // the force loop reads S_j
+    if (deck.solver.contact == Contact::Frictionless) haloFields_.push_back(f_.body.index);
     refreshFields_ = {f_.rho.index, f_.p.index, f_.cs.index};
     probes_ = std::make_unique<diagnostics::Probes<Dim>>(deck.probes);
     resolveOutputFields();
@@ -429,7 +437,21 @@ private:
       Phases::time(phases_.exchange, [&] { halo_->refresh(store_, refreshFields_); });
       Phases::time(phases_.boundaries, [&] { boundaries_->refreshGhosts(store_); });
     }
-    Phases::time(phases_.forces, [&] { solver_->computeRates(neighbors_); });
+    Phases::time(phases_.forces, [&] {
+      solver_->computeRates(neighbors_);
+      holdFixedBodies();
+    });
+  }
+
+  // Particles of a `fixed` body (a clamp) stay where they are: no acceleration, so the leapfrog
+  // keeps their zero velocity and their position. They still carry density, stress and energy,
+  // and the forces they exert on the rest are the reaction of the support.
+  void holdFixedBodies() {
+    if (fixedBodies_.empty()) return;
+    const auto body = store_[f_.body];
+    const auto a = store_[f_.a];
+    for (std::size_t i = 0; i < store_.localCount(); ++i)
+      if (std::binary_search(fixedBodies_.begin(), fixedBodies_.end(), body[i])) a[i].setZero();
   }
 
   // The geometric mean of the owned particles' h over all ranks, summed exactly (log2 h in fixed
@@ -1018,6 +1040,7 @@ private:
   bool canonicalLost_ = false; // a coarsened grid broke the rank-count-independent sum order
   RunLog* log_ = nullptr;
   neighbors::CellGrid<Dim> grid_;
+  std::vector<std::int32_t> fixedBodies_; // sorted body indices with `fixed = true`
   neighbors::NeighborList neighbors_;
   std::vector<std::string> outputFields_;
   std::vector<std::string> deferredWarnings_;

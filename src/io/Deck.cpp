@@ -4,6 +4,7 @@
 
 #include "DeckDetail.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -184,6 +185,7 @@ void DeckReader::readRun(const TableReader& r, RunConfig& run) {
 
 void DeckReader::readSolver(const TableReader& r, SolverConfig& s) const {
   r.allowOnly(*dd::schemaKeys("solver"));
+  s.where = r.where();
   if (const auto method = r.string("method"); method && (*method == "asph" || *method == "mpm"))
     r.fail("method",
            r.quoted("method") + ": '" + *method + "' is not available yet (available: sph)");
@@ -221,6 +223,24 @@ void DeckReader::readSolver(const TableReader& r, SolverConfig& s) const {
     av.check(c.beta >= 0.0, "beta", ">= 0", c.beta);
     c.balsara = av.boolean("balsara").value_or(c.balsara);
   }
+  if (const auto* t = r.subtable("artificial_stress")) {
+    const TableReader as = reader(*t, r.context().child("artificial_stress"));
+    as.allowOnly(*dd::schemaKeys("solver.artificial_stress"));
+    auto& c = s.artificial_stress;
+    c.epsilon = as.number("epsilon").value_or(c.epsilon);
+    as.check(c.epsilon >= 0.0 && c.epsilon <= 1.0, "epsilon", "in [0, 1] (0: off)", c.epsilon);
+    c.enabled = c.epsilon > 0.0;
+    if (const auto n = as.integer("exponent")) {
+      as.check(*n >= 1 && *n <= 8, "exponent", "an integer in [1, 8]", static_cast<double>(*n));
+      c.exponent = static_cast<int>(*n);
+    }
+  }
+  s.velocity_gradient = r.choice("velocity_gradient", {"sph", "corrected"}, "sph") == "corrected"
+                            ? VelocityGradient::Corrected
+                            : VelocityGradient::Sph;
+  s.contact = r.choice("contact", {"welded", "frictionless"}, "welded") == "frictionless"
+                  ? Contact::Frictionless
+                  : Contact::Welded;
   s.h_min = r.number("h_min").value_or(s.h_min);
   r.check(s.h_min >= 0.0, "h_min", ">= 0", s.h_min);
   s.h_max = r.number("h_max", true).value_or(s.h_max);
@@ -399,6 +419,28 @@ void DeckReader::readBody(const TableReader& r, const std::vector<MaterialConfig
     r.check(det != 0.0, "lattice_transform", "invertible (non-zero determinant)", det);
   }
   b.allow_overlap = r.boolean("allow_overlap").value_or(false);
+  if (const toml::table* t = r.subtable("cantilever_velocity")) {
+    const TableReader cv = reader(*t, r.context().child("cantilever_velocity"));
+    cv.allowOnly(*dd::schemaKeys("body.cantilever_velocity"));
+    if (dimension_ < 2)
+      r.fail("cantilever_velocity", r.quoted("cantilever_velocity") +
+                                        " needs run.dimension 2 or 3 (a transverse velocity)");
+    CantileverVelocityConfig c;
+    c.root = point(cv, "root");
+    c.length = cv.required(cv.number("length"), "length");
+    cv.check(c.length > 0.0, "length", "> 0", c.length);
+    c.tip_speed = cv.required(cv.number("tip_speed"), "tip_speed");
+    b.cantilever_velocity = c;
+  }
+  b.fixed = r.boolean("fixed").value_or(false);
+  if (b.fixed) {
+    const bool moving =
+        std::any_of(b.velocity.begin(), b.velocity.end(), [](double v) { return v != 0.0; }) ||
+        b.radial_velocity || b.cantilever_velocity;
+    if (moving)
+      r.fail("fixed", r.quoted("fixed") +
+                          " body cannot also be given a velocity (a fixed body is held at rest)");
+  }
 }
 
 void DeckReader::readShape(const TableReader& r, ShapeConfig& s) const {

@@ -208,21 +208,43 @@ private:
     const auto Lgrad = Solid ? s_[f_.L] : std::span<Tensor<3>>{};
     // S_j / rho_j^2 (or S_j / rho_j for the product form) of every row, ghosts included, once:
     // the pair loop then only adds and multiplies.
+    [[maybe_unused]] const bool artificialStress = cfg_.artificial_stress.enabled;
+    [[maybe_unused]] const bool corrected = cfg_.velocity_gradient == VelocityGradient::Corrected;
+    [[maybe_unused]] const int nAS = cfg_.artificial_stress.exponent;
+    // f_ij = W(r_ij)/W(dp) with dp = h/n_h, the initial spacing in units of h.
+    [[maybe_unused]] const double invWdp = 1.0 / K::f(1.0 / cfg_.nodes_per_h);
     if constexpr (Solid) {
       sOverRho_.resize(s_.size());
       for (std::size_t j = 0; j < s_.size(); ++j)
         sOverRho_[j] =
             Sdev[j].template topLeftCorner<Dim, Dim>() / (RhoProduct ? rho[j] : rho[j] * rho[j]);
+      if (artificialStress) {
+        artificialStress_.resize(s_.size());
+        for (std::size_t j = 0; j < s_.size(); ++j)
+          artificialStress_[j] = artificialStressOf(Sdev[j], p[j], rho[j]);
+      }
     }
     const double alpha = cfg_.artificial_viscosity.alpha, beta = cfg_.artificial_viscosity.beta;
     const double sigma = K::sigma();
     const std::size_t n = s_.localCount();
+    const bool frictionless = cfg_.contact == Contact::Frictionless;
+    const auto body = s_[f_.body];
+    // What the pair loop needs of a neighbor j that depends on j alone, once per row and packed
+    // together: the pair loop is left with one division (1/r) and one square root.
+    rowScratch_.resize(s_.size());
+    for (std::size_t j = 0; j < s_.size(); ++j) {
+      const double hjInv = 1.0 / h[j];
+      rowScratch_[j] = {hjInv, sigma * ipow<Dim>(hjInv) * hjInv, m[j] / rho[j],
+                        p[j] / (rho[j] * rho[j])};
+    }
 
     for (std::size_t i = 0; i < n; ++i) {
       const Vec<Dim> xi = x[i], vi = v[i];
       const double hi = h[i], hiInv = 1.0 / hi;
       const double gradNormI = sigma * ipow<Dim>(hiInv) * hiInv;
       const double rhoi = rho[i], Pi = p[i] / (rhoi * rhoi), ci = cs[i];
+      const std::int32_t bodyi = body[i];
+      [[maybe_unused]] const double rhoiInv = 1.0 / rhoi;
       const double fi = Balsara ? balsaraFactor(divv[i], curlv[i], ci, hi) : 1.0;
       Vec<Dim> ai = Vec<Dim>::Zero();
       double dei = 0.0, drhoi = 0.0, psii = 0.0, mui = 0.0, divi = 0.0;
@@ -230,10 +252,12 @@ private:
       if constexpr (Balsara) curli.setZero();
       // Solids: S_i / rho_i^2 (or S_i alone for the product form) in the Dim x Dim block, and the
       // velocity gradient L_i = -sum_j (m_j/rho_j) v_ij (x) grad_i W_ij.
-      [[maybe_unused]] MatD SiOwn, Li;
+      [[maybe_unused]] MatD SiOwn, Li, Mi, Ri;
       if constexpr (Solid) {
         SiOwn = sOverRho_[i]; // S_i/rho_i^2, or S_i/rho_i for the product form
         Li.setZero();
+        Mi.setZero();
+        if (artificialStress) Ri = artificialStress_[i];
       }
 
       for (std::uint32_t j : nl.of(i)) {
@@ -241,11 +265,13 @@ private:
         const double r2 = xij.squaredNorm();
         if (r2 == 0.0) continue; // coincident particles exert no force on each other
         const double r = std::sqrt(r2);
-        const double hj = h[j], hjInv = 1.0 / hj;
-        const double qi = r * hiInv, qj = r * hjInv;
+        const RowScratch& rj = rowScratch_[j];
+        const double hj = h[j];
+        const double qi = r * hiInv, qj = r * rj.hInv;
         const double dWi = qi < K::support ? gradNormI * K::df(qi) : 0.0;
-        const double dWj = qj < K::support ? sigma * ipow<Dim>(hjInv) * hjInv * K::df(qj) : 0.0;
-        const Vec<Dim> gradW = (0.5 * (dWi + dWj) / r) * xij;
+        const double dWj = qj < K::support ? rj.gradNorm * K::df(qj) : 0.0;
+        const double rInv = 1.0 / r;
+        const Vec<Dim> gradW = (0.5 * (dWi + dWj) * rInv) * xij;
         if (qi < K::support) psii += KW::WH(qi);
 
         const Vec<Dim> vij = vi - v[j];
@@ -261,37 +287,57 @@ private:
           mui = std::max(mui, -mu);
         }
         const double rhoj = rho[j];
-        const double term =
-            (RhoProduct ? (p[i] + p[j]) / (rhoi * rhoj) : Pi + p[j] / (rhoj * rhoj)) + Pij;
+        // Frictionless contact between bodies: across a body boundary only compression is
+        // transmitted (no tension, no shear), so touching bodies can slide and separate.
+        const bool across = frictionless && body[j] != bodyi;
+        double pOwn = p[i], pOther = p[j], PiPair = Pi, PjPair = rj.pOverRho2;
+        if (across) {
+          pOwn = std::max(pOwn, 0.0), pOther = std::max(pOther, 0.0);
+          PiPair = pOwn / (rhoi * rhoi), PjPair = pOther / (rhoj * rhoj);
+        }
+        const double term = (RhoProduct ? (pOwn + pOther) / (rhoi * rhoj) : PiPair + PjPair) + Pij;
         const double mj = m[j];
         ai.noalias() -= (mj * term) * gradW;
         const double vgrad = vij.dot(gradW);
-        if constexpr (Solid) {
-          // sigma = -p I + S: the deviatoric part of Lam et al. Eqs. 20-21 in tensor form; the
-          // energy share is -S_i/rho_i^2 : (m_j v_ij (x) grad W), which with the momentum term
-          // conserves total energy pair by pair.
-          // rho^2 form: (S_i/rho_i^2 + S_j/rho_j^2) grad W; product form: the same with
-          // S/rho on both sides, divided by the other density.
-          const Vec<Dim> tI = SiOwn * gradW, tJ = sOverRho_[j] * gradW;
-          if constexpr (RhoProduct) {
-            ai.noalias() += (mj / rhoj) * tI + (mj / rhoi) * tJ;
-            dei -= (mj / rhoj) * vij.dot(tI);
-          } else {
-            ai.noalias() += mj * (tI + tJ);
-            dei -= mj * vij.dot(tI);
+        if constexpr (Solid)
+          if (!across) {
+            // sigma = -p I + S: the deviatoric part of Lam et al. Eqs. 20-21 in tensor form; the
+            // energy share is -S_i/rho_i^2 : (m_j v_ij (x) grad W), which with the momentum term
+            // conserves total energy pair by pair.
+            // rho^2 form: (S_i/rho_i^2 + S_j/rho_j^2) grad W; product form: the same with
+            // S/rho on both sides, divided by the other density.
+            const Vec<Dim> tI = SiOwn * gradW, tJ = sOverRho_[j] * gradW;
+            if constexpr (RhoProduct) {
+              ai.noalias() += rj.vol * tI + (mj * rhoiInv) * tJ;
+              dei -= rj.vol * vij.dot(tI);
+            } else {
+              ai.noalias() += mj * (tI + tJ);
+              dei -= mj * vij.dot(tI);
+            }
+            Li.noalias() -= rj.vol * (vij * gradW.transpose());
+            if (corrected) Mi.noalias() -= rj.vol * (xij * gradW.transpose());
+            if (artificialStress) {
+              // Gray, Monaghan & Swift (2001) (Monaghan 2000 for fluids): m_j f_ij^n (R_i + R_j) .
+              // grad W in the momentum equation; e_i takes its own share, -m_j f^n v_ij . R_i grad
+              // W, so that total energy stays conserved pair by pair (as for the stress).
+              const double f = K::f(0.5 * (qi + qj)) * invWdp;
+              double fn = f;
+              for (int k = 1; k < nAS; ++k) fn *= f;
+              const Vec<Dim> rI = Ri * gradW;
+              ai.noalias() += (mj * fn) * (rI + artificialStress_[j] * gradW);
+              dei -= mj * fn * vij.dot(rI);
+            }
           }
-          Li.noalias() -= (mj / rhoj) * (vij * gradW.transpose());
-        }
         // Each particle takes its own p dV share of the pair's work and half the viscous
         // heating: e_i gains (p_i/rho_i^2 + Pi_ij/2) m_j v_ij . grad W (Monaghan 1992), or
         // p_i/(rho_i rho_j) in the product form. Summed over pairs this equals Lam et al.'s
         // symmetric Eq. 21 (total energy is conserved exactly either way), but Eq. 21's even
         // split charges a cold particle for the work of a hot neighbour pushing it away, which
         // drives e negative around a point blast (Sedov: e down to -60 at 20 steps).
-        const double own = RhoProduct ? p[i] / (rhoi * rhoj) : Pi;
+        const double own = RhoProduct ? pOwn / (rhoi * rhoj) : PiPair;
         dei += mj * (own + 0.5 * Pij) * vgrad;
-        const double volj = mj / rhoj;
-        drhoi += volj * dWi / r * vr;
+        const double volj = rj.vol;
+        drhoi += volj * dWi * rInv * vr;
         if constexpr (Balsara) {
           divi -= volj * vgrad;
           if constexpr (Dim == 2) curli[0] += volj * (vij[0] * gradW[1] - vij[1] * gradW[0]);
@@ -302,7 +348,13 @@ private:
       dedt[i] = dei;
       if constexpr (Solid) {
         Lgrad[i].setZero();
-        Lgrad[i].template topLeftCorner<Dim, Dim>() = Li;
+        // Randles & Libersky (1996): L M^-1 is exact for a linear velocity field whatever the
+        // neighbor distribution. M ~ I inside a body; a particle with neighbors on too few sides
+        // to invert it (|det M| < 0.01: a lone particle, a chain) keeps the plain gradient.
+        if (corrected && std::abs(Mi.determinant()) > 1.0e-2)
+          Lgrad[i].template topLeftCorner<Dim, Dim>() = Li * Mi.inverse();
+        else
+          Lgrad[i].template topLeftCorner<Dim, Dim>() = Li;
       }
       // Continuity, d rho_i/dt = -rho_i div v_i with div v_i = -sum_j (m_j/rho_j) v_ij . grad
       // W(r_ij, h_i): volume-weighted, so it stays accurate across a material interface with a
@@ -319,6 +371,26 @@ private:
     }
   }
 
+  // Gray, Monaghan & Swift (2001): in the principal frame of the Cauchy stress
+  // sigma = S - p I, each tensile principal stress sigma' > 0 gets R' = -epsilon sigma'/rho^2
+  // (compressive ones none); R = Q R' Q^T back in the lab frame.
+  Tensor<Dim> artificialStressOf(const Tensor<3>& S, double p, double rho) const {
+    const double scale = -cfg_.artificial_stress.epsilon / (rho * rho);
+    Tensor<Dim> sigma = S.template topLeftCorner<Dim, Dim>();
+    sigma.diagonal().array() -= p;
+    if constexpr (Dim == 1) {
+      return Tensor<1>::Constant(sigma(0, 0) > 0.0 ? scale * sigma(0, 0) : 0.0);
+    } else {
+      Eigen::SelfAdjointEigenSolver<Tensor<Dim>> eig;
+      eig.computeDirect(sigma);
+      Vec<Dim> rPrincipal = eig.eigenvalues();
+      for (int a = 0; a < Dim; ++a)
+        rPrincipal[a] = rPrincipal[a] > 0.0 ? scale * rPrincipal[a] : 0.0;
+      const auto& Q = eig.eigenvectors();
+      return Q * rPrincipal.asDiagonal() * Q.transpose();
+    }
+  }
+
   // Balsara (1995) switch, from the previous step's div v and |curl v|.
   static double balsaraFactor(double div, double curl, double c, double h) {
     const double ad = std::abs(div);
@@ -328,7 +400,12 @@ private:
   SolverConfig cfg_;
   std::vector<materials::Eos> eos_;
   std::vector<std::optional<materials::Strength>> strength_;
-  std::vector<Tensor<Dim>> sOverRho_; // scratch of the force loop (solids)
+  struct RowScratch {
+    double hInv, gradNorm, vol, pOverRho2;
+  };
+  std::vector<RowScratch> rowScratch_;        // scratch of the force loop
+  std::vector<Tensor<Dim>> sOverRho_;         // scratch of the force loop (solids)
+  std::vector<Tensor<Dim>> artificialStress_; // R of every row (solids, when enabled)
   ParticleStore& s_;
   SphFields<Dim> f_;
   kernels::PsiTable psi_;

@@ -28,6 +28,9 @@ std::vector<BodySummary> generateBodies(const Deck& deck, const std::vector<mate
 template <int Dim>
 void applyEnergySources(const Deck& deck, ParticleStore& store, const solvers::SphFields<Dim>& f);
 
+// The transverse velocity at x of a body with cantilever_velocity (first bending mode).
+double cantileverModeVelocity(const CantileverVelocityConfig& c, double x);
+
 // A uniform deviate in [-1, 1) from (seed, id, stream): the same on any rank count.
 double hashedUniform(std::uint64_t seed, std::uint64_t id, std::uint64_t stream);
 

@@ -41,6 +41,28 @@ struct ArtificialViscosityConfig {
   bool balsara = false;
 };
 
+// Monaghan's artificial stress against the tensile instability (Gray, Monaghan & Swift 2001):
+// R = -epsilon sigma'/rho^2 on the tensile principal stresses, weighted by f_ij^exponent with
+// f_ij = W(r_ij)/W(dp) in the pair term.
+struct ArtificialStressConfig {
+  bool enabled = false;
+  double epsilon = 0.3;
+  int exponent = 4;
+};
+
+// How the velocity gradient that drives the deviatoric stress is computed.
+enum class VelocityGradient {
+  Sph,      // L_i = -sum_j (m_j/rho_j) v_ij (x) grad_i W_ij
+  Corrected // the same times M_i^-1, M_i = -sum_j (m_j/rho_j) x_ij (x) grad_i W_ij: exact for
+            // linear velocity fields, at free surfaces too (Randles & Libersky 1996)
+};
+
+// How particles of different bodies interact.
+enum class Contact {
+  Welded,      // like one continuum: bodies touching under tension stick
+  Frictionless // only compression across a body boundary: bodies slide and separate freely
+};
+
 struct SolverConfig {
   std::string method = "sph"; // "sph" (later "asph", "mpm")
   KernelType kernel = KernelType::CubicSpline;
@@ -49,12 +71,16 @@ struct SolverConfig {
   DensityMethod density = DensityMethod::Continuity;
   StressForm stress_form = StressForm::RhoSquared;
   ArtificialViscosityConfig artificial_viscosity;
+  ArtificialStressConfig artificial_stress;
+  VelocityGradient velocity_gradient = VelocityGradient::Sph;
+  Contact contact = Contact::Welded;
   // Limits on the smoothing scale: absolute bounds [h_min, h_max] in m (0 / inf: none), and a
   // bound relative to the particle's own volume: h <= h_max_ratio * n_h * (m/rho)^(1/dim), which
   // stops h from growing without end at free surfaces, where the neighbor count is one-sided.
   double h_min = 0.0;
   double h_max = std::numeric_limits<double>::infinity();
   double h_max_ratio = 2.0;
+  SourceLocation where;
 };
 
 struct DecompositionConfig {
@@ -111,6 +137,14 @@ struct RadialVelocityConfig {
   double speed = 0.0; // added along (x - center)/|x - center|; negative: inflow (Noh)
 };
 
+// The first bending mode of a beam clamped at `root` and lying along +x, as a transverse (y)
+// velocity: v_y(x) = tip_speed * F(x - root_x) / F(length), zero for x < root_x (the clamp).
+struct CantileverVelocityConfig {
+  std::vector<double> root;
+  double length = 0.0;
+  double tip_speed = 0.0;
+};
+
 struct BodyConfig {
   std::string name;
   std::string material;    // name as in the deck
@@ -127,6 +161,8 @@ struct BodyConfig {
   double insert_time = 0.0;
   std::optional<std::vector<std::vector<double>>> lattice_transform; // dimension x dimension
   bool allow_overlap = false; // may overlap bodies listed before it
+  std::optional<CantileverVelocityConfig> cantilever_velocity;
+  bool fixed = false; // held in place: v = 0, a = 0 (a clamp); still carries stress
   SourceLocation where;
 };
 

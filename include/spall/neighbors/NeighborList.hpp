@@ -47,9 +47,11 @@ public:
   // Bins all `x` (owned and ghosts) into cells of `cellSize` aligned to the origin (so a cell is
   // the same cell on every rank). The grid is coarsened when the particles' extent would need
   // more than ~2 cells per particle (a far-flung particle must not cost memory); returns false
-  // then. With `order`, the members of each cell are kept in its order.
+  // then. With `order`, the members of each cell are kept in its order. The members' positions
+  // (and `radius`, if given) are copied in member order, so that a search streams through
+  // contiguous memory instead of gathering every candidate from the store.
   bool build(std::span<const Vec<Dim>> x, double cellSize,
-             const CanonicalOrder<Dim>* order = nullptr) {
+             const CanonicalOrder<Dim>* order = nullptr, std::span<const double> radius = {}) {
     Vec<Dim> lo = Vec<Dim>::Constant(std::numeric_limits<double>::max());
     Vec<Dim> hi = Vec<Dim>::Constant(std::numeric_limits<double>::lowest());
     for (const auto& p : x) {
@@ -99,6 +101,10 @@ public:
                   [&](std::uint32_t a, std::uint32_t b) { return order->less(a, b); });
       }
     }
+    xs_.resize(x.size());
+    for (std::size_t m = 0; m < x.size(); ++m) xs_[m] = x[members_[m]];
+    rs_.resize(radius.size());
+    for (std::size_t m = 0; m < radius.size(); ++m) rs_[m] = radius[members_[m]];
     return kept;
   }
 
@@ -115,9 +121,21 @@ public:
   }
   std::span<const std::uint32_t> cellOf() const { return cellOf_; }
 
+  // Member m (a position in the cell-sorted order) is particle members()[m] at sortedX()[m].
+  std::span<const std::uint32_t> members() const { return members_; }
+  std::span<const Vec<Dim>> sortedX() const { return xs_; }
+  std::span<const double> sortedRadius() const { return rs_; }
+
   // Calls visit(j) for every particle in the cells within `reach` cells of cell `c` along each
   // axis (a (2 reach + 1)^Dim block), cells in z, y, x order.
   template <class F> void forEachNear(std::uint32_t c, std::int64_t reach, F&& visit) const {
+    forEachRangeNear(c, reach, [&](std::uint32_t b, std::uint32_t e) {
+      for (std::uint32_t m = b; m < e; ++m) visit(members_[m]);
+    });
+  }
+
+  // The same block as contiguous ranges [b, e) of member positions, one per row of cells.
+  template <class F> void forEachRangeNear(std::uint32_t c, std::int64_t reach, F&& range) const {
     std::int64_t k[3] = {0, 0, 0};
     std::int64_t rem = c;
     for (int d = 0; d < Dim; ++d) {
@@ -133,9 +151,8 @@ public:
            y <= std::min<std::int64_t>(k[1] + r1, n_[1] - 1); ++y) {
         const std::int64_t base = (z * n_[1] + y) * n_[0];
         // The cells x0..x1 of one row are contiguous in `members_`.
-        const std::uint32_t b = start_[static_cast<std::size_t>(base + x0)];
-        const std::uint32_t e = start_[static_cast<std::size_t>(base + x1 + 1)];
-        for (std::uint32_t m = b; m < e; ++m) visit(members_[m]);
+        range(start_[static_cast<std::size_t>(base + x0)],
+              start_[static_cast<std::size_t>(base + x1 + 1)]);
       }
     }
   }
@@ -147,6 +164,8 @@ private:
   std::vector<std::uint32_t> start_;
   std::vector<std::uint32_t> cellOf_;
   std::vector<std::uint32_t> members_;
+  std::vector<Vec<Dim>> xs_;
+  std::vector<double> rs_;
 };
 
 // Builds the neighbor lists of the first `owned` particles of x (the rest are ghosts): every j
@@ -170,50 +189,79 @@ bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h, s
     hRef = hs[hs.size() / 2];
   }
   if (!(hRef > 0.0)) hRef = 1.0;
+  std::vector<double> radius(n);
+  for (std::size_t a = 0; a < n; ++a) radius[a] = support * h[a];
   // Cells of half the typical support: a (5 cells)^Dim block covers it with fewer candidates
   // than (3 cells of a full support)^Dim.
-  const bool kept = grid.build(x, 0.5 * support * hRef, order);
+  const bool kept = grid.build(x, 0.5 * support * hRef, order, radius);
   const double cell = grid.cellSize();
+  const auto members = grid.members();
+  const auto xs = grid.sortedX();
+  const auto rs = grid.sortedRadius();
   out.offsets.assign(owned + 1, 0);
   // Reuse last build's size: a doubling vector would hold up to twice the memory it needs.
   const std::size_t expected = out.indices.size() + out.indices.size() / 16;
   out.indices.clear();
   if (out.indices.capacity() < expected) out.indices.reserve(expected);
   std::vector<std::pair<std::uint32_t, std::uint32_t>> extra; // (owned i, j reaching i)
+  std::vector<std::uint32_t> hit;                             // member positions within reach
+  std::vector<double> hitR2;
   const auto cellOf = grid.cellOf();
   for (std::size_t a = 0; a < n; ++a) {
     const Vec<Dim> xa = x[a];
-    const double ra = support * h[a], ra2 = ra * ra;
+    const double ra = radius[a], ra2 = ra * ra;
     const auto reach = static_cast<std::int64_t>(std::ceil(ra / cell));
-    const bool aOwned = a < owned;
-    grid.forEachNear(cellOf[a], reach, [&](std::uint32_t b) {
-      if (b == a) return;
-      const double r2 = (xa - x[b]).squaredNorm();
-      if (r2 >= ra2) return;
-      if (aOwned) out.indices.push_back(b);
-      const double rb = support * h[b];
-      if (b < owned && r2 >= rb * rb) extra.emplace_back(b, static_cast<std::uint32_t>(a));
+    // Branch-free compaction of the candidates within reach (about a quarter of the block in
+    // 3D, so a taken/not-taken branch per candidate would mispredict often).
+    std::size_t found = 0;
+    grid.forEachRangeNear(cellOf[a], reach, [&](std::uint32_t b, std::uint32_t e) {
+      if (hit.size() < found + (e - b)) hit.resize(2 * (found + (e - b))), hitR2.resize(hit.size());
+      for (std::uint32_t m = b; m < e; ++m) {
+        const double r2 = (xa - xs[m]).squaredNorm();
+        hit[found] = m;
+        hitR2[found] = r2;
+        found += r2 < ra2;
+      }
     });
+    const bool aOwned = a < owned;
+    for (std::size_t k = 0; k < found; ++k) {
+      const std::uint32_t m = hit[k], b = members[m];
+      if (b == a) continue;
+      if (aOwned) out.indices.push_back(b);
+      // b does not reach a itself: its row gets a from this side.
+      if (b < owned && hitR2[k] >= rs[m] * rs[m])
+        extra.emplace_back(b, static_cast<std::uint32_t>(a));
+    }
     if (aOwned) out.offsets[a + 1] = out.indices.size();
   }
   if (extra.empty()) return kept || !order;
-  // Merge the pairs found from the other side into the rows of their owned particle, in place:
-  // grow the index array once, then move rows back to front to their final place.
-  if (order) {
-    std::sort(extra.begin(), extra.end(), [&](const auto& p, const auto& q) {
-      return p.first != q.first ? p.first < q.first : order->less(p.second, q.second);
-    });
-  } else {
-    std::sort(extra.begin(), extra.end());
+  // Group the pairs found from the other side by their owned particle with a counting sort (they
+  // were found in increasing j, so each group is already sorted by j); a canonical order sorts
+  // each small group by it.
+  std::vector<std::uint32_t> groupStart(owned + 1, 0);
+  for (const auto& [i, j] : extra) ++groupStart[i + 1];
+  for (std::size_t i = 0; i < owned; ++i) groupStart[i + 1] += groupStart[i];
+  std::vector<std::uint32_t> grouped(extra.size());
+  {
+    std::vector<std::uint32_t> fill(groupStart.begin(), groupStart.end() - 1);
+    for (const auto& [i, j] : extra) grouped[fill[i]++] = j;
   }
+  if (order) {
+    for (std::size_t i = 0; i < owned; ++i)
+      if (groupStart[i + 1] - groupStart[i] > 1)
+        std::sort(grouped.begin() + groupStart[i], grouped.begin() + groupStart[i + 1],
+                  [&](std::uint32_t p, std::uint32_t q) { return order->less(p, q); });
+  }
+  // Merge them into the rows in place: grow the index array once, then move rows back to front
+  // to their final place, each row's own gathers first, then its group.
   const std::size_t gathered = out.indices.size();
   out.indices.resize(gathered + extra.size());
-  std::size_t e = extra.size();
   std::size_t write = out.indices.size();
   for (std::size_t i = owned; i-- > 0;) {
     const std::uint64_t begin = out.offsets[i], end = out.offsets[i + 1];
     out.offsets[i + 1] = write;
-    for (; e > 0 && extra[e - 1].first == i; --e) out.indices[--write] = extra[e - 1].second;
+    for (std::uint32_t k = groupStart[i + 1]; k-- > groupStart[i];)
+      out.indices[--write] = grouped[k];
     for (std::uint64_t k = end; k-- > begin;) out.indices[--write] = out.indices[k];
   }
   return kept || !order;

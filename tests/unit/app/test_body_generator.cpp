@@ -112,3 +112,23 @@ jitter = 0.2
   EXPECT_LE(maxShift, 0.2 * 0.1); // by at most jitter * spacing per axis
   EXPECT_NE(app::hashedUniform(3, 5, 0), app::hashedUniform(4, 5, 0));
 }
+
+// The first clamped-free mode: F(0) = F'(0) = 0 at the clamp, F''(L) = F'''(L) = 0 at the free end
+// (no moment, no shear), and the tip moves at tip_speed. Derivatives by central differences of
+// step L/1000 (truncation ~1e-6 relative; the tolerances are 1e-4 of the scale of each derivative).
+TEST(BodyGenerator, CantileverModeIsClampedFreeBeamMode) {
+  CantileverVelocityConfig c{{0.1, 0.0}, 0.2, 0.57};
+  const auto v = [&](double x) { return app::cantileverModeVelocity(c, x); };
+  const double L = c.length, x0 = c.root[0], d = L / 1000.0, k = 1.8751040687119611 / L;
+  EXPECT_NEAR(v(x0 + L), 0.57, 1e-12);
+  EXPECT_EQ(v(x0), 0.0);
+  EXPECT_EQ(v(x0 - 0.05), 0.0); // the clamp does not move
+  // F'(0) from the one-sided difference: F ~ k^2 x^2 near the clamp, so F(d)/d -> 0.
+  EXPECT_LT(v(x0 + d) / d, 1e-2 * 0.57 * k);
+  const double xe = x0 + L - 2 * d; // the derivatives at the free end, from inside
+  const double f2 = (v(xe + d) - 2 * v(xe) + v(xe - d)) / (d * d);
+  const double f3 =
+      (v(xe + 2 * d) - 2 * v(xe + d) + 2 * v(xe - d) - v(xe - 2 * d)) / (2 * d * d * d);
+  EXPECT_LT(std::abs(f2), 2e-2 * 0.57 * k * k); // O(d) away from the end: k^3 d ~ 2e-3 k^2
+  EXPECT_LT(std::abs(f3), 2e-2 * 0.57 * k * k * k);
+}

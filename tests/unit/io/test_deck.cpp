@@ -730,3 +730,42 @@ TEST_F(DeckTest, ResolvedTomlRoundTrips) {
 }
 
 } // namespace
+
+// ---- solid-mechanics solver options and structure body keys ----
+
+TEST_F(DeckTest, SolidSolverOptions) {
+  const std::string path = write(kDeck1D);
+  const Deck d =
+      loadDeck(path, {"solver.artificial_stress.epsilon=0.2", "solver.contact=frictionless",
+                      "solver.velocity_gradient=corrected"});
+  EXPECT_TRUE(d.solver.artificial_stress.enabled);
+  EXPECT_EQ(d.solver.artificial_stress.epsilon, 0.2);
+  EXPECT_EQ(d.solver.artificial_stress.exponent, 4);
+  EXPECT_EQ(d.solver.contact, spall::Contact::Frictionless);
+  EXPECT_EQ(d.solver.velocity_gradient, spall::VelocityGradient::Corrected);
+  const Deck off = loadDeck(path, {"solver.artificial_stress.epsilon=0"});
+  EXPECT_FALSE(off.solver.artificial_stress.enabled);
+  const Deck plain = loadDeck(path);
+  EXPECT_FALSE(plain.solver.artificial_stress.enabled);
+  EXPECT_EQ(plain.solver.contact, spall::Contact::Welded);
+}
+
+TEST_F(DeckTest, SolidSolverOptionsAreValidated) {
+  expectOverrideError(kDeck1D, "solver.artificial_stress.epsilon=1.5", "in [0, 1]");
+  expectOverrideError(kDeck1D, "solver.artificial_stress.exponent=0", "[1, 8]");
+  expectOverrideError(kDeck1D, "solver.contact=sticky", "frictionless");
+}
+
+TEST_F(DeckTest, FixedBodyCannotMove) {
+  // The striker has velocity = [20.0].
+  expectOverrideError(kDeck1D, "body.striker.fixed=true", "held at rest");
+  const Deck d = loadDeck(write(kDeck1D), {"body.target.fixed=true"});
+  EXPECT_TRUE(d.bodies[1].fixed);
+  EXPECT_FALSE(d.bodies[0].fixed);
+}
+
+TEST_F(DeckTest, CantileverVelocityNeedsATransverseAxis) {
+  expectOverrideError(kDeck1D,
+                      "body.target.cantilever_velocity={root=[0.0], length=0.02, tip_speed=1.0}",
+                      "run.dimension 2 or 3");
+}
