@@ -220,8 +220,12 @@ private:
             Sdev[j].template topLeftCorner<Dim, Dim>() / (RhoProduct ? rho[j] : rho[j] * rho[j]);
       if (artificialStress) {
         artificialStress_.resize(s_.size());
+        // Only solids: a fluid in a multi-material deck keeps the plain pressure term.
+        const auto mat = s_[f_.material];
         for (std::size_t j = 0; j < s_.size(); ++j)
-          artificialStress_[j] = artificialStressOf(Sdev[j], p[j], rho[j]);
+          artificialStress_[j] = strength_[static_cast<std::size_t>(mat[j])]
+                                     ? artificialStressOf(Sdev[j], p[j], rho[j])
+                                     : Tensor<Dim>::Zero();
       }
     }
     const double alpha = cfg_.artificial_viscosity.alpha, beta = cfg_.artificial_viscosity.beta;
