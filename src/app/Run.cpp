@@ -118,7 +118,8 @@ public:
     // Strength fields and the deviatoric work only where a deck has a solid.
     const bool solids = std::any_of(strength_.begin(), strength_.end(),
                                     [](const auto& s) { return s.has_value(); });
-    f_.registerIn(store_, deck.solver.artificial_viscosity.balsara, solids);
+    f_.registerIn(store_, deck.solver.artificial_viscosity.balsara, solids,
+                  solids && deck.solver.velocity_gradient == VelocityGradient::Corrected);
     if (!solids && (deck.solver.artificial_stress.enabled ||
                     deck.solver.velocity_gradient != VelocityGradient::Sph))
       throw DeckError(deck.solver.where,
@@ -437,6 +438,13 @@ private:
       Phases::time(phases_.exchange, [&] { halo_->refresh(store_, refreshFields_); });
       Phases::time(phases_.boundaries, [&] { boundaries_->refreshGhosts(store_); });
     }
+    if (solver_->correctsKernel())
+      Phases::time(phases_.forces, [&] {
+        solver_->computeKernelCorrection(neighbors_);
+        const std::size_t fields[] = {f_.B.index};
+        halo_->refresh(store_, fields);
+        boundaries_->refreshGhosts(store_, {f_.B});
+      });
     Phases::time(phases_.forces, [&] {
       solver_->computeRates(neighbors_);
       holdFixedBodies();

@@ -35,8 +35,10 @@ template <int Dim> void Boundaries<Dim>::wrapPeriodic(ParticleStore& s) const {
 
 template <int Dim> void Boundaries<Dim>::buildGhosts(ParticleStore& s, double reach) {
   source_.clear();
+  wallOf_.clear();
   first_ = s.size();
-  for (const Wall& w : walls_) {
+  for (std::size_t k = 0; k < walls_.size(); ++k) {
+    const Wall& w = walls_[k];
     const std::size_t count = s.size(); // owned, remote ghosts and images of earlier walls
     for (std::size_t i = 0; i < count; ++i) {
       const double d = (s[f_.x][i] - w.point).dot(w.normal);
@@ -47,13 +49,11 @@ template <int Dim> void Boundaries<Dim>::buildGhosts(ParticleStore& s, double re
       x[g] -= 2.0 * d * w.normal;
       v[g] -= 2.0 * v[g].dot(w.normal) * w.normal;
       if (f_.hasStrength()) {
-        // The mirror image of a stress tensor: P S P with the reflection P = I - 2 n n^T.
-        Tensor<3> P = Tensor<3>::Identity();
-        P.template topLeftCorner<Dim, Dim>() -= 2.0 * w.normal * w.normal.transpose();
         auto S = s[f_.S];
-        S[g] = P * S[g] * P;
+        S[g] = mirrored(S[g], w);
       }
       source_.push_back(static_cast<std::uint32_t>(i));
+      wallOf_.push_back(static_cast<std::uint32_t>(k));
     }
   }
 }
@@ -64,7 +64,9 @@ template <int Dim> std::vector<parallel::PeriodicAxis> Boundaries<Dim>::periodic
   return out;
 }
 
-template <int Dim> void Boundaries<Dim>::refreshGhosts(ParticleStore& s) const {
+template <int Dim>
+void Boundaries<Dim>::refreshGhosts(ParticleStore& s,
+                                    std::initializer_list<Field<Tensor<3>>> tensors) const {
   const auto rho = s[f_.rho];
   const auto p = s[f_.p];
   const auto cs = s[f_.cs];
@@ -76,6 +78,19 @@ template <int Dim> void Boundaries<Dim>::refreshGhosts(ParticleStore& s) const {
     p[g] = p[i];
     cs[g] = cs[i];
   }
+  for (const auto field : tensors) {
+    if (!field.valid()) continue;
+    const auto T = s[field];
+    for (std::size_t k = 0; k < source_.size(); ++k)
+      T[first + k] = mirrored(T[source_[k]], walls_[wallOf_[k]]);
+  }
+}
+
+// The mirror image of a stress tensor: P S P with the reflection P = I - 2 n n^T.
+template <int Dim> Tensor<3> Boundaries<Dim>::mirrored(const Tensor<3>& S, const Wall& w) {
+  Tensor<3> P = Tensor<3>::Identity();
+  P.template topLeftCorner<Dim, Dim>() -= 2.0 * w.normal * w.normal.transpose();
+  return P * S * P;
 }
 
 template class Boundaries<1>;

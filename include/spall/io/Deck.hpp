@@ -50,11 +50,13 @@ struct ArtificialStressConfig {
   int exponent = 4;
 };
 
-// How the velocity gradient that drives the deviatoric stress is computed.
+// The kernel gradient of the solid path: the velocity gradient, the density rate and each
+// particle's own stress in the momentum and energy equations.
 enum class VelocityGradient {
-  Sph,      // L_i = -sum_j (m_j/rho_j) v_ij (x) grad_i W_ij
-  Corrected // the same times M_i^-1, M_i = -sum_j (m_j/rho_j) x_ij (x) grad_i W_ij: exact for
-            // linear velocity fields, at free surfaces too (Randles & Libersky 1996)
+  Sph,      // grad_i W_ij; L_i = -sum_j (m_j/rho_j) v_ij (x) grad_i W_ij
+  Corrected // B_i grad_i W_ij with B_i = M_i^-T, M_i = -sum_j (m_j/rho_j) x_ij (x) grad_i W_ij:
+            // exact for linear fields, at free surfaces too (Randles & Libersky 1996; Bonet & Lok
+            // 1999)
 };
 
 // How particles of different bodies interact.

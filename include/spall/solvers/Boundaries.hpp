@@ -9,6 +9,7 @@
 #include "spall/parallel/HaloExchange.hpp"
 #include "spall/solvers/SphFields.hpp"
 
+#include <initializer_list>
 #include <vector>
 
 namespace spall::solvers {
@@ -24,8 +25,9 @@ public:
   void buildGhosts(ParticleStore& s, double reach);
   std::vector<parallel::PeriodicAxis> periodicAxes() const;
   // Copies the fields that change between ghost creation and the force loop (summation density
-  // and the EOS) from each ghost's source.
-  void refreshGhosts(ParticleStore& s) const;
+  // and the EOS) from each ghost's source, and the mirror image P T P of the given tensor fields
+  // (those that are registered).
+  void refreshGhosts(ParticleStore& s, std::initializer_list<Field<Tensor<3>>> tensors = {}) const;
 
 private:
   struct Wall {
@@ -35,10 +37,12 @@ private:
     int axis;
     double min, max;
   };
+  static Tensor<3> mirrored(const Tensor<3>& S, const Wall& w);
   std::vector<Wall> walls_;
   std::vector<Periodic> periodic_;
   std::size_t first_ = 0;             // first wall ghost
   std::vector<std::uint32_t> source_; // ghost first_ + k images source_[k]
+  std::vector<std::uint32_t> wallOf_; // ... across walls_[wallOf_[k]]
   SphFields<Dim> f_;
 };
 

@@ -23,10 +23,13 @@ template <int Dim> struct SphFields {
   // the last force evaluation (Dim x Dim, embedded in 3x3), plastic strain, temperature.
   Field<Tensor<3>> S, L;
   Field<double> plasticStrain, temperature;
+  // The kernel-gradient correction B_i = M_i^-T (velocity_gradient = "corrected"), recomputed
+  // by every force evaluation before the force loop, which reads it of ghosts too.
+  Field<Tensor<3>> B;
 
   bool hasStrength() const { return S.valid(); }
 
-  void registerIn(ParticleStore& s, bool balsara, bool strength = false) {
+  void registerIn(ParticleStore& s, bool balsara, bool strength = false, bool corrected = false) {
     constexpr unsigned out = kOutput | kCheckpoint, ck = kCheckpoint, none = 0;
     id = s.add<ParticleId>("id", out);
     x = s.add<Vec<Dim>>("position", out);
@@ -57,6 +60,7 @@ template <int Dim> struct SphFields {
       plasticStrain = s.add<double>("plastic_strain", out);
       temperature = s.add<double>("temperature", out);
     }
+    if (corrected) B = s.add<Tensor<3>>("kernel_correction", none);
   }
 };
 

@@ -40,6 +40,10 @@ public:
   // Advances the deviatoric stress (and plastic strain, temperature) of the particles whose
   // material has strength over dt with the velocity gradient of the last force evaluation.
   virtual void updateStrength(double dt) = 0;
+  // The corrected kernel gradient (velocity_gradient = "corrected"): B_i of the owned particles,
+  // which the force loop then needs of the ghosts too.
+  virtual bool correctsKernel() const = 0;
+  virtual void computeKernelCorrection(const neighbors::NeighborList& nl) = 0;
 };
 
 struct SolverSetup {
