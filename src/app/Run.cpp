@@ -19,6 +19,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fmt/format.h>
 #include <fstream>
@@ -119,7 +120,8 @@ public:
     const bool solids = std::any_of(strength_.begin(), strength_.end(),
                                     [](const auto& s) { return s.has_value(); });
     f_.registerIn(store_, deck.solver.artificial_viscosity.balsara, solids,
-                  solids && deck.solver.velocity_gradient == VelocityGradient::Corrected);
+                  solids && deck.solver.velocity_gradient == VelocityGradient::Corrected,
+                  deck.solver.method == "asph");
     if (!solids && (deck.solver.artificial_stress.enabled ||
                     deck.solver.velocity_gradient != VelocityGradient::Sph))
       throw DeckError(deck.solver.where,
@@ -147,6 +149,7 @@ public:
     for (std::size_t c : {f_.id.index, f_.x.index, f_.v.index, f_.m.index, f_.h.index, f_.rho.index,
                           f_.p.index, f_.cs.index, f_.material.index})
       haloFields_.push_back(c);
+    if (f_.anisotropic()) haloFields_.push_back(f_.H.index);
     if (f_.divv.valid())
       haloFields_.push_back(f_.divv.index), haloFields_.push_back(f_.curlv.index);
     if (f_.hasStrength()) haloFields_.push_back(f_.S.index); // the force loop reads S_j
@@ -161,6 +164,9 @@ public:
   void generate() {
     bodies_ = generateBodies<Dim>(deck_, eos_, store_, f_);
     applyEnergySources<Dim>(deck_, store_, f_);
+    if (f_.anisotropic()) // round to start with: the ideal-H update finds the shape
+      for (std::size_t i = 0; i < store_.localCount(); ++i)
+        store_[f_.H][i] = Tensor<Dim>::Identity() / store_[f_.h][i];
     if (f_.hasStrength()) {
       // Unstressed at t = 0; Johnson-Cook materials start at their room temperature (the only
       // model that tracks temperature).
@@ -801,12 +807,17 @@ private:
       for (const auto& name : outputFields_) {
         const FieldInfo tensor{name, ScalarType::F64, {Dim, Dim}, kOutput};
         if (name == "smoothing") {
-          // H = I/h for SPH (INTERFACE.md: the H tensor).
+          // H = I/h for SPH, the full tensor for ASPH (INTERFACE.md: the H tensor).
           const auto h = store_[f_.h];
-          fields.push_back({tensor, nullptr, [h, n](void* rows) {
-                              auto* H = static_cast<Tensor<Dim>*>(rows);
-                              for (std::size_t i = 0; i < n; ++i)
-                                H[i] = Tensor<Dim>::Identity() / h[i];
+          const auto Hs = f_.anisotropic() ? store_[f_.H] : std::span<const Tensor<Dim>>{};
+          // The rows buffer has no alignment guarantee for fixed-size Eigen types: write doubles.
+          fields.push_back({tensor, nullptr, [h, Hs, n](void* rows) {
+                              auto* out = static_cast<double*>(rows);
+                              for (std::size_t i = 0; i < n; ++i) {
+                                const Tensor<Dim> H =
+                                    Hs.empty() ? (Tensor<Dim>::Identity() / h[i]).eval() : Hs[i];
+                                std::memcpy(out + i * Dim * Dim, H.data(), sizeof(H));
+                              }
                             }});
         } else if (name == "stress") {
           // Full Cauchy stress -p I + S (the Dim x Dim block); S = 0 on the hydro path.

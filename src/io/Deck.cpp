@@ -186,10 +186,10 @@ void DeckReader::readRun(const TableReader& r, RunConfig& run) {
 void DeckReader::readSolver(const TableReader& r, SolverConfig& s) const {
   r.allowOnly(*dd::schemaKeys("solver"));
   s.where = r.where();
-  if (const auto method = r.string("method"); method && (*method == "asph" || *method == "mpm"))
+  if (const auto method = r.string("method"); method && *method == "mpm")
     r.fail("method",
-           r.quoted("method") + ": '" + *method + "' is not available yet (available: sph)");
-  s.method = r.choice("method", {"sph"}, "sph");
+           r.quoted("method") + ": '" + *method + "' is not available yet (available: sph, asph)");
+  s.method = r.choice("method", {"sph", "asph"}, "sph");
 
   const std::string kernel =
       r.choice("kernel", {"cubic_spline", "wendland_c2", "wendland_c4"}, "cubic_spline");
@@ -247,6 +247,8 @@ void DeckReader::readSolver(const TableReader& r, SolverConfig& s) const {
   r.check(s.h_max > s.h_min, "h_max", "> h_min (" + dd::formatNumber(s.h_min) + ")", s.h_max);
   s.h_max_ratio = r.number("h_max_ratio").value_or(s.h_max_ratio);
   r.check(s.h_max_ratio > 0.0, "h_max_ratio", "> 0", s.h_max_ratio);
+  s.max_aspect_ratio = r.number("max_aspect_ratio").value_or(s.max_aspect_ratio);
+  r.check(s.max_aspect_ratio >= 1.0, "max_aspect_ratio", ">= 1", s.max_aspect_ratio);
 }
 
 void DeckReader::readDecomposition(const TableReader& r, DecompositionConfig& d) const {

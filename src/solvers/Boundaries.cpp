@@ -52,6 +52,11 @@ template <int Dim> void Boundaries<Dim>::buildGhosts(ParticleStore& s, double re
         auto S = s[f_.S];
         S[g] = mirrored(S[g], w);
       }
+      if (f_.anisotropic()) { // the mirror image of the smoothing ellipsoid
+        const Tensor<Dim> P = Tensor<Dim>::Identity() - 2.0 * w.normal * w.normal.transpose();
+        auto H = s[f_.H];
+        H[g] = P * H[g] * P;
+      }
       source_.push_back(static_cast<std::uint32_t>(i));
       wallOf_.push_back(static_cast<std::uint32_t>(k));
     }

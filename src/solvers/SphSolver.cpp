@@ -9,7 +9,9 @@ namespace spall::solvers {
 namespace {
 
 template <int Dim> double ipow(double x) {
-  if constexpr (Dim == 1)
+  if constexpr (Dim == 0)
+    return 1.0;
+  else if constexpr (Dim == 1)
     return x;
   else if constexpr (Dim == 2)
     return x * x;
@@ -21,7 +23,11 @@ template <int Dim> double ipow(double x) {
 // -p I + S, or the full stress with the corrected kernel gradient B_i grad W.
 enum class Stress { Pressure, Cauchy, CorrectedCauchy };
 
-template <int Dim, class K> class Sph final : public Solver<Dim> {
+// Aniso: ASPH (Owen 2010, Sec. II): a symmetric tensor H per particle instead of 1/h, kernels
+// evaluated at eta = |H x| with the normalisation det H, and their gradients
+// grad_x W(|H x|) = det(H) W'(eta) H^T H x / eta. With H = I/h every expression below is the SPH
+// one (unit-tested), so the SPH instantiation keeps its own scalar arithmetic.
+template <int Dim, class K, bool Aniso> class Sph final : public Solver<Dim> {
   using KW = kernels::Kernel<K, Dim>;
 
 public:
@@ -45,13 +51,14 @@ public:
     // previous densities of all particles (ghosts included): keep them while rho is overwritten.
     if (normalise) rhoPrev_.assign(rho.begin(), rho.end());
     const double W0 = K::sigma() * K::f(0.0);
+    const auto Hs = Aniso ? s_[f_.H] : std::span<Tensor<Dim>>{};
     for (std::size_t i = 0; i < n; ++i) {
       const double hinv = 1.0 / h[i];
-      const double norm = ipow<Dim>(hinv);
+      const double norm = Aniso ? Hs[i].determinant() : ipow<Dim>(hinv);
       double sum = m[i] * W0;
       double vol = normalise ? m[i] / rhoPrev_[i] * W0 : 0.0;
       for (std::uint32_t j : nl.of(i)) {
-        const double q = (x[i] - x[j]).norm() * hinv;
+        const double q = Aniso ? (Hs[i] * (x[i] - x[j])).norm() : (x[i] - x[j]).norm() * hinv;
         if (q >= K::support) continue;
         const double w = K::sigma() * K::f(q);
         sum += m[j] * w;
@@ -128,6 +135,7 @@ public:
     const auto rho = s_[f_.rho];
     const auto B = s_[f_.B];
     const double sigma = K::sigma();
+    if constexpr (Aniso) prepareAnisoRows();
     for (std::size_t i = 0; i < s_.localCount(); ++i) {
       const double hiInv = 1.0 / h[i], gradNormI = sigma * ipow<Dim>(hiInv) * hiInv;
       Tensor<Dim> M = Tensor<Dim>::Zero();
@@ -135,11 +143,16 @@ public:
         const Vec<Dim> xij = x[i] - x[j];
         const double r = xij.norm();
         if (r == 0.0) continue;
-        const double hjInv = 1.0 / h[j];
-        const double qi = r * hiInv, qj = r * hjInv;
-        const double dWi = qi < K::support ? gradNormI * K::df(qi) : 0.0;
-        const double dWj = qj < K::support ? sigma * ipow<Dim>(hjInv) * hjInv * K::df(qj) : 0.0;
-        const Vec<Dim> gradW = (0.5 * (dWi + dWj) / r) * xij; // the force loop's gradient
+        Vec<Dim> gradW; // the force loop's gradient
+        if constexpr (Aniso) {
+          gradW = 0.5 * (anisoGradient(i, xij) + anisoGradient(j, xij));
+        } else {
+          const double hjInv = 1.0 / h[j];
+          const double qi = r * hiInv, qj = r * hjInv;
+          const double dWi = qi < K::support ? gradNormI * K::df(qi) : 0.0;
+          const double dWj = qj < K::support ? sigma * ipow<Dim>(hjInv) * hjInv * K::df(qj) : 0.0;
+          gradW = (0.5 * (dWi + dWj) / r) * xij;
+        }
         M.noalias() -= (m[j] / rho[j]) * (xij * gradW.transpose());
       }
       B[i].setIdentity();
@@ -173,6 +186,10 @@ public:
   }
 
   void updateSmoothing() override {
+    if constexpr (Aniso) {
+      updateSmoothingTensor();
+      return;
+    }
     const auto h = s_[f_.h];
     const auto m = s_[f_.m];
     const auto rho = s_[f_.rho];
@@ -204,9 +221,11 @@ public:
     for (std::size_t i = 0; i < s_.localCount(); ++i) {
       // Monaghan (1992): signal speed c + 1.2 (alpha c + beta max mu_ij); plus the force limit.
       const double signal = cs[i] + 1.2 * (alpha * cs[i] + beta * mu[i]);
-      double dti = signal > 0.0 ? h[i] / signal : std::numeric_limits<double>::infinity();
+      // ASPH: the shortest axis of the smoothing ellipsoid, 1/lambda_max(H).
+      const double hi = Aniso ? 1.0 / largestEigenvalue(s_[f_.H][i]) : h[i];
+      double dti = signal > 0.0 ? hi / signal : std::numeric_limits<double>::infinity();
       const double an = a[i].norm();
-      if (an > 0.0) dti = std::min(dti, std::sqrt(h[i] / an));
+      if (an > 0.0) dti = std::min(dti, std::sqrt(hi / an));
       if (dti < dt) dt = dti, which = i;
     }
     return {cfg_.cfl * dt, which};
@@ -284,6 +303,8 @@ private:
     const auto body = s_[f_.body];
     // What the pair loop needs of a neighbor j that depends on j alone, once per row and packed
     // together: the pair loop is left with one division (1/r) and one square root.
+    [[maybe_unused]] const auto psi2 = Aniso ? s_[f_.psi2] : std::span<Tensor<Dim>>{};
+    if constexpr (Aniso) prepareAnisoRows(), psi2x_.resize(n);
     rowScratch_.resize(s_.size());
     for (std::size_t j = 0; j < s_.size(); ++j) {
       const double hjInv = 1.0 / h[j];
@@ -301,6 +322,8 @@ private:
       const double fi = Balsara ? balsaraFactor(divv[i], curlv[i], ci, hi) : 1.0;
       Vec<Dim> ai = Vec<Dim>::Zero();
       double dei = 0.0, drhoi = 0.0, psii = 0.0, mui = 0.0, divi = 0.0;
+      [[maybe_unused]] Tensor<Dim> psi2i, psi2xi;
+      if constexpr (Aniso) psi2i.setZero(), psi2xi.setZero();
       [[maybe_unused]] Eigen::Matrix<double, Dim == 3 ? 3 : 1, 1> curli;
       if constexpr (Balsara) curli.setZero();
       // Solids: S_i / rho_i^2 (or S_i alone for the product form) in the Dim x Dim block, and the
@@ -319,13 +342,40 @@ private:
         if (r2 == 0.0) continue; // coincident particles exert no force on each other
         const double r = std::sqrt(r2);
         const RowScratch& rj = rowScratch_[j];
-        const double hj = h[j];
-        const double qi = r * hiInv, qj = r * rj.hInv;
-        const double dWi = qi < K::support ? gradNormI * K::df(qi) : 0.0;
-        const double dWj = qj < K::support ? rj.gradNorm * K::df(qj) : 0.0;
         const double rInv = 1.0 / r;
-        const Vec<Dim> gradW = (0.5 * (dWi + dWj) * rInv) * xij;
-        if (qi < K::support) psii += KW::WH(qi);
+        // The pair's gradient (average of both supports'), i's own one (continuity), and the
+        // smoothing scales along the pair (viscosity): h, or r/eta for ASPH.
+        Vec<Dim> gradW, gradWi;
+        double hAlongI = hi, hAlongJ = h[j];
+        [[maybe_unused]] double qMean; // the pair's mean normalised distance
+        if constexpr (Aniso) {
+          const Vec<Dim> ei = anisoRow_[i].H * xij, ej = anisoRow_[j].H * xij;
+          const double etaI = ei.norm(), etaJ = ej.norm();
+          gradWi = anisoGradient(i, ei, etaI);
+          gradW = 0.5 * (gradWi + anisoGradient(j, ej, etaJ));
+          hAlongI = r / etaI, hAlongJ = r / etaJ;
+          qMean = 0.5 * (etaI + etaJ);
+          if (etaI < K::support) {
+            // Owen (2010), Eqs. 1 and 5 with W^H = |dW/deta| (Sec. II-C); the second moment of
+            // the neighbor directions in the eta frame of H_i (see updateSmoothingTensor).
+            const double wH = KW::WH(etaI);
+            psii += wH;
+            if (etaI > 0.0) {
+              const double w = wH / ipow<Dim>(etaI); // (W^H/eta^(nu-1))^2 / eta^2, square-rooted
+              psi2i.noalias() += (w * w) * (ei * ei.transpose());
+              const double wx = wH * rInv * rInv; // W^H^2 x^ x^ / r^2: closer is heavier
+              psi2xi.noalias() += (wx * wx) * (xij * xij.transpose());
+            }
+          }
+        } else {
+          const double qi = r * hiInv, qj = r * rj.hInv;
+          const double dWi = qi < K::support ? gradNormI * K::df(qi) : 0.0;
+          const double dWj = qj < K::support ? rj.gradNorm * K::df(qj) : 0.0;
+          gradW = (0.5 * (dWi + dWj) * rInv) * xij;
+          gradWi = (dWi * rInv) * xij;
+          qMean = 0.5 * (qi + qj);
+          if (qi < K::support) psii += KW::WH(qi);
+        }
         // The gradients i's and j's own quantities are contracted with (the same unless
         // corrected).
         Vec<Dim> gI = gradW, gJ = gradW;
@@ -339,11 +389,11 @@ private:
         double Pij = 0.0;
         if (vr < 0.0) {
           // Monaghan & Gingold (1983) viscosity (Lam et al. 2001, Eqs. 22-24).
-          const double hbar = 0.5 * (hi + hj);
+          const double hbar = 0.5 * (hAlongI + hAlongJ);
           const double mu = hbar * vr / (r2 + 0.01 * hbar * hbar);
           const double cbar = 0.5 * (ci + cs[j]), rhobar = 0.5 * (rhoi + rho[j]);
           Pij = (-alpha * cbar * mu + beta * mu * mu) / rhobar;
-          if constexpr (Balsara) Pij *= 0.5 * (fi + balsaraFactor(divv[j], curlv[j], cs[j], hj));
+          if constexpr (Balsara) Pij *= 0.5 * (fi + balsaraFactor(divv[j], curlv[j], cs[j], h[j]));
           mui = std::max(mui, -mu);
         }
         const double rhoj = rho[j];
@@ -386,7 +436,7 @@ private:
               // Gray, Monaghan & Swift (2001) (Monaghan 2000 for fluids): m_j f_ij^n (R_i + R_j) .
               // grad W in the momentum equation; e_i takes its own share, -m_j f^n v_ij . R_i grad
               // W, so that total energy stays conserved pair by pair (as for the stress).
-              const double f = K::f(0.5 * (qi + qj)) * invWdp;
+              const double f = K::f(qMean) * invWdp;
               double fn = f;
               for (int k = 1; k < nAS; ++k) fn *= f;
               const Vec<Dim> rI = Ri * gI;
@@ -410,7 +460,7 @@ private:
           // -div v_i = trace of the corrected gradient (L_i below): exact for a linear field.
           drhoi += volj * vij.dot(gI);
         } else {
-          drhoi += volj * dWi * rInv * vr;
+          drhoi += volj * vij.dot(gradWi);
         }
         if constexpr (Balsara) {
           divi -= volj * vgrad;
@@ -431,11 +481,118 @@ private:
       // shock by ~40% here; the gather form gives the post-shock density within 8%.)
       drhodt[i] = rhoi * drhoi;
       psi[i] = psii;
+      if constexpr (Aniso) psi2[i] = psi2i, psi2x_[i] = psi2xi;
       muMax[i] = mui;
       if constexpr (Balsara) {
         divv[i] = divi;
         curlv[i] = curli.norm();
       }
+    }
+  }
+
+  // ---- ASPH -------------------------------------------------------------------------------
+  struct AnisoRow {
+    Tensor<Dim> H;
+    double normGrad; // sigma det H, the kernel's normalisation
+  };
+  // H and sigma det H of every row, ghosts included, once per loop.
+  void prepareAnisoRows() {
+    const auto Hs = s_[f_.H];
+    anisoRow_.resize(s_.size());
+    for (std::size_t j = 0; j < s_.size(); ++j)
+      anisoRow_[j] = {Hs[j], K::sigma() * Hs[j].determinant()};
+  }
+  // grad_x W(|H_k x|) at x = x_ij with row k's tensor: det(H) W'(eta) H^T (H x)/eta.
+  Vec<Dim> anisoGradient(std::size_t k, const Vec<Dim>& e, double eta) const {
+    if (eta >= K::support || eta == 0.0) return Vec<Dim>::Zero();
+    const AnisoRow& row = anisoRow_[k];
+    return (row.normGrad * K::df(eta) / eta) * (row.H.transpose() * e);
+  }
+  Vec<Dim> anisoGradient(std::size_t k, const Vec<Dim>& xij) const {
+    const Vec<Dim> e = anisoRow_[k].H * xij;
+    return anisoGradient(k, e, e.norm());
+  }
+  static double largestEigenvalue(const Tensor<Dim>& H) {
+    if constexpr (Dim == 1) {
+      return H(0, 0);
+    } else {
+      Eigen::SelfAdjointEigenSolver<Tensor<Dim>> eig;
+      eig.computeDirect(H, Eigen::EigenvaluesOnly);
+      return eig.eigenvalues()[Dim - 1];
+    }
+  }
+
+  // Owen (2010), Sec. II: the ideal H from the sums of the last neighbor loop.
+  // Size (Eqs. 1-4): n_h from Psi_0 = (sum W^H)^(1/nu) by the tabulated Psi_0(n_h), s = n_h^target/
+  // n_h, a = 0.4 (1 + s^2) or 0.4 (1 + s^-3), and |H| scales by (1 - a + a s)^-nu.
+  // Shape (Eqs. 5-6): the goal is that "in the local eta space the neighbors of node i should
+  // appear isotropic" (Sec. II-B). Psi_2 is Eq. 5's kernel-weighted second moment of the
+  // neighbor directions, taken in the eta = H_i x frame: sum_j (W^H(eta_j)/eta_j^(nu-1))^2
+  // eta^_j eta^_j^T. Neighbors that sit closer in eta along an axis weigh more there, and the
+  // shape correction T = Psi_2^(1/2)/|Psi_2|^(1/2nu) (Eq. 6's normalised square root) stretches
+  // eta along it: eta' = T eta, so H' = (H T^2 H)^(1/2) (the kernel sees only |eta|). When the
+  // neighbors look isotropic in eta, T = I: any lattice mapped by a linear A (Fig. 5) is then a
+  // fixed point at H ~ (A A^T)^(-1/2), whatever the weights, because a square, hexagonal or cubic
+  // lattice has no preferred direction for a second moment. (Eq. 5 as printed takes the moment of
+  // the physical directions and Eq. 6 its inverse root; without the eta frame a distorted lattice
+  // is not a fixed point: the physical-frame version settled at axis ratio 2.8 instead of 4.)
+  // Limits: h_min <= every axis <= h_max, the longest axis <= h_max_ratio n_h (m/rho)^(1/nu) (as
+  // for SPH), and longest/shortest <= max_aspect_ratio.
+  void updateSmoothingTensor() {
+    const auto h = s_[f_.h];
+    const auto m = s_[f_.m];
+    const auto rho = s_[f_.rho];
+    const auto psi = s_[f_.psi0];
+    const auto Hs = s_[f_.H];
+    const auto psi2 = s_[f_.psi2];
+    const double target = cfg_.nodes_per_h;
+    for (std::size_t i = 0; i < s_.localCount(); ++i) {
+      const double nh = psi_.nodesPerH(std::pow(psi[i], 1.0 / Dim));
+      const double sRatio = std::min(nh > 0.0 ? target / nh : 4.0, 4.0);
+      const double a = sRatio < 1.0 ? 0.4 * (1.0 + sRatio * sRatio)
+                                    : 0.4 * (1.0 + 1.0 / (sRatio * sRatio * sRatio));
+      const double size =
+          std::pow(std::abs(Hs[i].determinant()), 1.0 / Dim) / (1.0 - a + a * sRatio);
+      Eigen::SelfAdjointEigenSolver<Tensor<Dim>> eig;
+      // The shape correction, where Psi_2 sees neighbors in every direction (a particle with
+      // neighbors on one line only keeps its shape).
+      Tensor<Dim> Hnew = Hs[i];
+      eig.computeDirect(psi2[i]);
+      const auto& mu = eig.eigenvalues();
+      if (mu[0] > 1e-6 * mu[Dim - 1] && mu[0] > 0.0) {
+        Vec<Dim> t = mu.cwiseSqrt();
+        t /= std::pow(t.prod(), 1.0 / Dim);
+        const Tensor<Dim> T2 =
+            eig.eigenvectors() * t.cwiseAbs2().asDiagonal() * eig.eigenvectors().transpose();
+        const Tensor<Dim> G = Hs[i] * T2 * Hs[i];
+        eig.computeDirect(0.5 * (G + G.transpose()));
+        Hnew = eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal() *
+               eig.eigenvectors().transpose();
+      }
+      eig.computeDirect(Hnew);
+      Vec<Dim> lambda = eig.eigenvalues();
+      Tensor<Dim> Q = eig.eigenvectors();
+      // The axes from a physical-frame moment, sum_j W^H(eta_j)^2 x^_j x^_j / r_j^2 (Eq. 5 with
+      // the physical distance in place of eta, so that closer neighbors always weigh more): it
+      // keeps the symmetry of the node distribution, which the eta-frame correction alone can
+      // break (on the distorted lattice 179 of 204 particles settled 7 degrees off, at one of
+      // two mirror-image states whose eta-frame moment is isotropic too). Its eigenvectors in
+      // ascending order carry H's eigenvalues in ascending order.
+      Eigen::SelfAdjointEigenSolver<Tensor<Dim>> axes;
+      axes.computeDirect(psi2x_[i]);
+      if (axes.eigenvalues()[0] > 1e-6 * axes.eigenvalues()[Dim - 1] && axes.eigenvalues()[0] > 0.0)
+        Q = axes.eigenvectors();
+      lambda *= size / std::pow(lambda.prod(), 1.0 / Dim);
+      // Limits on the axes 1/lambda.
+      const double hVolume = cfg_.h_max_ratio * target * std::pow(m[i] / rho[i], 1.0 / Dim);
+      const double hLongest = std::min(cfg_.h_max, hVolume);
+      for (int k = 0; k < Dim; ++k)
+        lambda[k] = std::clamp(lambda[k], 1.0 / hLongest, 1.0 / cfg_.h_min);
+      const double lambdaMin =
+          std::max(lambda.minCoeff(), lambda.maxCoeff() / cfg_.max_aspect_ratio);
+      for (int k = 0; k < Dim; ++k) lambda[k] = std::max(lambda[k], lambdaMin);
+      Hs[i] = Q * lambda.asDiagonal() * Q.transpose();
+      h[i] = 1.0 / lambda.minCoeff();
     }
   }
 
@@ -478,6 +635,8 @@ private:
   SphFields<Dim> f_;
   kernels::PsiTable psi_;
   std::vector<double> rhoPrev_;
+  std::vector<AnisoRow> anisoRow_; // scratch of the ASPH loops
+  std::vector<Tensor<Dim>> psi2x_; // Eq. 5's second moment in the physical frame, owned rows
 };
 
 } // namespace
@@ -485,13 +644,23 @@ private:
 template <int Dim>
 std::unique_ptr<Solver<Dim>> makeSolver(const SolverSetup& setup, ParticleStore& store,
                                         const SphFields<Dim>& f) {
+  if (f.anisotropic()) {
+    switch (setup.config.kernel) {
+    case KernelType::CubicSpline:
+      return std::make_unique<Sph<Dim, kernels::CubicSpline<Dim>, true>>(setup, store, f);
+    case KernelType::WendlandC2:
+      return std::make_unique<Sph<Dim, kernels::WendlandC2<Dim>, true>>(setup, store, f);
+    case KernelType::WendlandC4:
+      return std::make_unique<Sph<Dim, kernels::WendlandC4<Dim>, true>>(setup, store, f);
+    }
+  }
   switch (setup.config.kernel) {
   case KernelType::CubicSpline:
-    return std::make_unique<Sph<Dim, kernels::CubicSpline<Dim>>>(setup, store, f);
+    return std::make_unique<Sph<Dim, kernels::CubicSpline<Dim>, false>>(setup, store, f);
   case KernelType::WendlandC2:
-    return std::make_unique<Sph<Dim, kernels::WendlandC2<Dim>>>(setup, store, f);
+    return std::make_unique<Sph<Dim, kernels::WendlandC2<Dim>, false>>(setup, store, f);
   case KernelType::WendlandC4:
-    return std::make_unique<Sph<Dim, kernels::WendlandC4<Dim>>>(setup, store, f);
+    return std::make_unique<Sph<Dim, kernels::WendlandC4<Dim>, false>>(setup, store, f);
   }
   return nullptr;
 }

@@ -66,7 +66,7 @@ enum class Contact {
 };
 
 struct SolverConfig {
-  std::string method = "sph"; // "sph" (later "asph", "mpm")
+  std::string method = "sph"; // "sph" | "asph" (later "mpm")
   KernelType kernel = KernelType::CubicSpline;
   double nodes_per_h = 1.5; // n_h target (Owen 2010, Sec. II-A)
   double cfl = 0.25;
@@ -82,6 +82,8 @@ struct SolverConfig {
   double h_min = 0.0;
   double h_max = std::numeric_limits<double>::infinity();
   double h_max_ratio = 2.0;
+  // ASPH: the longest axis of the smoothing ellipsoid is at most this many times the shortest.
+  double max_aspect_ratio = 10.0;
   SourceLocation where;
 };
 

@@ -26,10 +26,17 @@ template <int Dim> struct SphFields {
   // The kernel-gradient correction B_i = M_i^-T (velocity_gradient = "corrected"), recomputed
   // by every force evaluation before the force loop, which reads it of ghosts too.
   Field<Tensor<3>> B;
+  // ASPH (solver.method = "asph"): the smoothing tensor H (1/length, symmetric; eta = H x) and
+  // the second moment Psi_2 of the last neighbor loop (Owen 2010, Eq. 5). h then holds the
+  // longest axis, 1/lambda_min(H): the reach of the neighbor search and the ghosts.
+  Field<Tensor<Dim>> H, psi2;
+
+  bool anisotropic() const { return H.valid(); }
 
   bool hasStrength() const { return S.valid(); }
 
-  void registerIn(ParticleStore& s, bool balsara, bool strength = false, bool corrected = false) {
+  void registerIn(ParticleStore& s, bool balsara, bool strength = false, bool corrected = false,
+                  bool asph = false) {
     constexpr unsigned out = kOutput | kCheckpoint, ck = kCheckpoint, none = 0;
     id = s.add<ParticleId>("id", out);
     x = s.add<Vec<Dim>>("position", out);
@@ -61,6 +68,10 @@ template <int Dim> struct SphFields {
       temperature = s.add<double>("temperature", out);
     }
     if (corrected) B = s.add<Tensor<3>>("kernel_correction", none);
+    if (asph) {
+      H = s.add<Tensor<Dim>>("smoothing_tensor", ck);
+      psi2 = s.add<Tensor<Dim>>("psi2", none);
+    }
   }
 };
 

@@ -500,8 +500,8 @@ TEST_F(DeckTest, UnknownKernelSuggestsTheNearest) {
               "'cubic_splin' (did you mean 'cubic_spline'?)");
 }
 
-TEST_F(DeckTest, AsphIsNotAvailableYet) {
-  expectError(withLine(kDeck1D, 7, "method = \"asph\""), 7, 10, "'asph' is not available yet");
+TEST_F(DeckTest, MpmIsNotAvailableYet) {
+  expectError(withLine(kDeck1D, 7, "method = \"mpm\""), 7, 10, "'mpm' is not available yet");
 }
 
 TEST_F(DeckTest, StrengthModelsNeedTheirParameters) {
@@ -658,7 +658,8 @@ TEST_F(DeckTest, OverrideBareString) {
   const Deck d = load(kDeck1D, {"output.directory=out/other run", "run.title=a \"quoted\" title"});
   EXPECT_EQ(d.output.directory, "out/other run");
   EXPECT_EQ(d.run.title, "a \"quoted\" title");
-  expectOverrideError(kDeck1D, "solver.method=asph", "'asph' is not available yet");
+  expectOverrideError(kDeck1D, "solver.method=mpm", "'mpm' is not available yet");
+  EXPECT_EQ(load(kDeck1D, {"solver.method=asph"}).solver.method, "asph");
 }
 
 TEST_F(DeckTest, OverrideUnknownKeySuggests) {
