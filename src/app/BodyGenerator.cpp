@@ -225,6 +225,14 @@ std::vector<BodySummary> generateBodies(const Deck& deck, const std::vector<mate
       }
       if (body.cantilever_velocity)
         v[k][1] += cantileverModeVelocity(*body.cantilever_velocity, xi[0]);
+      if (body.linear_velocity) { // v += G (x - c): a homogeneous stretch, shear or spin
+        const Vec<Dim> r = xi - toVec<Dim>(body.linear_velocity->center);
+        for (int a = 0; a < Dim; ++a)
+          for (int c = 0; c < Dim; ++c)
+            v[k][a] += body.linear_velocity
+                           ->gradient[static_cast<std::size_t>(a)][static_cast<std::size_t>(c)] *
+                       r[c];
+      }
       m[k] = rho0 * s.volume;
       rho[k] = rho0;
       e[k] = e0;

@@ -434,11 +434,17 @@ void DeckReader::readBody(const TableReader& r, const std::vector<MaterialConfig
     c.tip_speed = cv.required(cv.number("tip_speed"), "tip_speed");
     b.cantilever_velocity = c;
   }
+  if (const toml::table* t = r.subtable("linear_velocity")) {
+    const TableReader lv = reader(*t, r.context().child("linear_velocity"));
+    lv.allowOnly(*dd::schemaKeys("body.linear_velocity"));
+    b.linear_velocity = LinearVelocityConfig{
+        point(lv, "center"), lv.required(lv.matrix("gradient", dimension_), "gradient")};
+  }
   b.fixed = r.boolean("fixed").value_or(false);
   if (b.fixed) {
     const bool moving =
         std::any_of(b.velocity.begin(), b.velocity.end(), [](double v) { return v != 0.0; }) ||
-        b.radial_velocity || b.cantilever_velocity;
+        b.radial_velocity || b.cantilever_velocity || b.linear_velocity;
     if (moving)
       r.fail("fixed", r.quoted("fixed") +
                           " body cannot also be given a velocity (a fixed body is held at rest)");

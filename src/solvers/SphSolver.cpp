@@ -560,8 +560,12 @@ private:
       eig.computeDirect(psi2[i]);
       const auto& mu = eig.eigenvalues();
       if (mu[0] > 1e-6 * mu[Dim - 1] && mu[0] > 0.0) {
-        Vec<Dim> t = mu.cwiseSqrt();
+        // Relaxed like the size (Eqs. 2-3): half the correction per step, at most 20% per axis,
+        // so that a transient neighborhood (a particle passing between rows) cannot flip or
+        // collapse the ellipse in one step.
+        Vec<Dim> t = mu.cwiseSqrt().cwiseSqrt();
         t /= std::pow(t.prod(), 1.0 / Dim);
+        t = t.cwiseMax(1.0 / 1.2).cwiseMin(1.2);
         const Tensor<Dim> T2 =
             eig.eigenvectors() * t.cwiseAbs2().asDiagonal() * eig.eigenvectors().transpose();
         const Tensor<Dim> G = Hs[i] * T2 * Hs[i];

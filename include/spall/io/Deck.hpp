@@ -136,6 +136,11 @@ struct ShapeConfig {
   SourceLocation where;
 };
 
+struct LinearVelocityConfig {
+  std::vector<double> center;
+  std::vector<std::vector<double>> gradient; // G: v += G (x - center), dimension x dimension
+};
+
 struct RadialVelocityConfig {
   std::vector<double> center;
   double speed = 0.0; // added along (x - center)/|x - center|; negative: inflow (Noh)
@@ -166,6 +171,7 @@ struct BodyConfig {
   std::optional<std::vector<std::vector<double>>> lattice_transform; // dimension x dimension
   bool allow_overlap = false; // may overlap bodies listed before it
   std::optional<CantileverVelocityConfig> cantilever_velocity;
+  std::optional<LinearVelocityConfig> linear_velocity;
   bool fixed = false; // held in place: v = 0, a = 0 (a clamp); still carries stress
   SourceLocation where;
 };
