@@ -770,3 +770,19 @@ TEST_F(DeckTest, CantileverVelocityNeedsATransverseAxis) {
                       "body.target.cantilever_velocity={root=[0.0], length=0.02, tip_speed=1.0}",
                       "run.dimension 2 or 3");
 }
+
+TEST_F(DeckTest, LinearVelocityTakesADimByDimGradient) {
+  const Deck d = loadDeck(write(kDeck1D),
+                          {"body.target.linear_velocity={center=[0.01], gradient=[[-3.0e3]]}"});
+  ASSERT_TRUE(d.bodies[1].linear_velocity);
+  EXPECT_DOUBLE_EQ(d.bodies[1].linear_velocity->center[0], 0.01);
+  EXPECT_DOUBLE_EQ(d.bodies[1].linear_velocity->gradient[0][0], -3.0e3);
+  // 1D deck: a 2x2 gradient is the wrong shape; and a fixed body cannot be given one.
+  expectOverrideError(
+      kDeck1D, "body.target.linear_velocity={center=[0.0], gradient=[[1.0, 0.0], [0.0, 1.0]]}",
+      "gradient");
+  const DeckError e =
+      error(kDeck1D, {"body.target.linear_velocity={center=[0.0], gradient=[[1.0]]}",
+                      "body.target.fixed=true"});
+  EXPECT_NE(std::string(e.what()).find("held at rest"), std::string::npos) << e.what();
+}
