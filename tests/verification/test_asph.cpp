@@ -143,9 +143,10 @@ std::vector<int> rowNeighbors(const std::string& method) {
 // support (sized by the unchanged volume per particle) reaches only the next particle along the
 // row on each side: 2 row neighbors, down from 4 at the start (+-1 and +-2 spacings inside the
 // 3-spacing support). ASPH stretches the ellipse with the rod and keeps 4 for most particles.
-// Measured at 20 us over 576 particles: SPH 2 for every one; ASPH median 4, but 132 have fewer
-// than 3 (rows near the sides whose ellipses turned across the rod): the minimum the issue asks
-// for is not yet met, so this checks the median and the SPH loss, and the deck's header says so.
+// Measured at 20 us over 576 particles: SPH 2 for every one; ASPH median 4, but 56 have fewer
+// than 3 (6 have one), where the lattice is disordered and the ellipse turns off the rod axis:
+// the minimum the issue asks for is not yet met, so this checks the median, that at most 15% fall
+// below 3, and the SPH loss; the deck's header says so.
 TEST(AsphRod, StretchingRodKeepsRowNeighborsWhereSphLosesThem) {
   const auto sph = rowNeighbors("sph"), asph = rowNeighbors("asph");
   ASSERT_FALSE(sph.empty());
@@ -158,4 +159,6 @@ TEST(AsphRod, StretchingRodKeepsRowNeighborsWhereSphLosesThem) {
                   std::count_if(asph.begin(), asph.end(), [](int n) { return n < 3; })));
   EXPECT_LE(sphMax, 2);
   EXPECT_GE(asphMedian, 4);
+  EXPECT_LE(std::count_if(asph.begin(), asph.end(), [](int n) { return n < 3; }),
+            static_cast<std::ptrdiff_t>(0.15 * static_cast<double>(asph.size())));
 }
