@@ -185,6 +185,17 @@ public:
     }
   }
 
+  // Owen (2010) Eqs. 2-3: s = n_h^target/n_h (at most 4) from the last loop's Psi_0, a = 0.4 (1 +
+  // s^2) for s < 1 and 0.4 (1 + s^-3) otherwise; h scales by (1 - a + a s), |H| by its -nu power
+  // (Eq. 4).
+  double sizeFactor(std::size_t i) const {
+    const double nh = psi_.nodesPerH(std::pow(s_[f_.psi0][i], 1.0 / Dim));
+    const double sRatio = std::min(nh > 0.0 ? cfg_.nodes_per_h / nh : 4.0, 4.0);
+    const double a = sRatio < 1.0 ? 0.4 * (1.0 + sRatio * sRatio)
+                                  : 0.4 * (1.0 + 1.0 / (sRatio * sRatio * sRatio));
+    return 1.0 - a + a * sRatio;
+  }
+
   void updateSmoothing() override {
     if constexpr (Aniso) {
       updateSmoothingTensor();
@@ -193,17 +204,9 @@ public:
     const auto h = s_[f_.h];
     const auto m = s_[f_.m];
     const auto rho = s_[f_.rho];
-    const auto psi = s_[f_.psi0];
     const double target = cfg_.nodes_per_h;
     for (std::size_t i = 0; i < s_.localCount(); ++i) {
-      // Owen (2010) Eq. 2-3: s = n_h^target / n_h, a = 0.4 (1 + s^2) for s < 1 and
-      // 0.4 (1 + s^-3) otherwise, h_new = (1 - a + a s) h.
-      const double nh = psi_.nodesPerH(std::pow(psi[i], 1.0 / Dim));
-      const double sRatio = nh > 0.0 ? target / nh : 4.0;
-      const double sClamped = std::min(sRatio, 4.0);
-      const double a = sClamped < 1.0 ? 0.4 * (1.0 + sClamped * sClamped)
-                                      : 0.4 * (1.0 + 1.0 / (sClamped * sClamped * sClamped));
-      double hNew = (1.0 - a + a * sClamped) * h[i];
+      double hNew = sizeFactor(i) * h[i];
       const double hVolume = target * std::pow(m[i] / rho[i], 1.0 / Dim);
       hNew = std::min(hNew, cfg_.h_max_ratio * hVolume);
       h[i] = std::clamp(hNew, cfg_.h_min, cfg_.h_max);
@@ -303,8 +306,7 @@ private:
     const auto body = s_[f_.body];
     // What the pair loop needs of a neighbor j that depends on j alone, once per row and packed
     // together: the pair loop is left with one division (1/r) and one square root.
-    [[maybe_unused]] const auto psi2 = Aniso ? s_[f_.psi2] : std::span<Tensor<Dim>>{};
-    if constexpr (Aniso) prepareAnisoRows(), psi2x_.resize(n);
+    if constexpr (Aniso) prepareAnisoRows(), psi2Eta_.resize(n), psi2x_.resize(n);
     rowScratch_.resize(s_.size());
     for (std::size_t j = 0; j < s_.size(); ++j) {
       const double hjInv = 1.0 / h[j];
@@ -481,7 +483,7 @@ private:
       // shock by ~40% here; the gather form gives the post-shock density within 8%.)
       drhodt[i] = rhoi * drhoi;
       psi[i] = psii;
-      if constexpr (Aniso) psi2[i] = psi2i, psi2x_[i] = psi2xi;
+      if constexpr (Aniso) psi2Eta_[i] = psi2i, psi2x_[i] = psi2xi;
       muMax[i] = mui;
       if constexpr (Balsara) {
         divv[i] = divi;
@@ -542,22 +544,15 @@ private:
     const auto h = s_[f_.h];
     const auto m = s_[f_.m];
     const auto rho = s_[f_.rho];
-    const auto psi = s_[f_.psi0];
     const auto Hs = s_[f_.H];
-    const auto psi2 = s_[f_.psi2];
     const double target = cfg_.nodes_per_h;
     for (std::size_t i = 0; i < s_.localCount(); ++i) {
-      const double nh = psi_.nodesPerH(std::pow(psi[i], 1.0 / Dim));
-      const double sRatio = std::min(nh > 0.0 ? target / nh : 4.0, 4.0);
-      const double a = sRatio < 1.0 ? 0.4 * (1.0 + sRatio * sRatio)
-                                    : 0.4 * (1.0 + 1.0 / (sRatio * sRatio * sRatio));
-      const double size =
-          std::pow(std::abs(Hs[i].determinant()), 1.0 / Dim) / (1.0 - a + a * sRatio);
+      const double size = std::pow(std::abs(Hs[i].determinant()), 1.0 / Dim) / sizeFactor(i);
       Eigen::SelfAdjointEigenSolver<Tensor<Dim>> eig;
       // The shape correction, where Psi_2 sees neighbors in every direction (a particle with
       // neighbors on one line only keeps its shape).
       Tensor<Dim> Hnew = Hs[i];
-      eig.computeDirect(psi2[i]);
+      eig.computeDirect(psi2Eta_[i]);
       const auto& mu = eig.eigenvalues();
       if (mu[0] > 1e-6 * mu[Dim - 1] && mu[0] > 0.0) {
         // Relaxed like the size (Eqs. 2-3): half the correction per step, at most 20% per axis,
@@ -640,7 +635,9 @@ private:
   kernels::PsiTable psi_;
   std::vector<double> rhoPrev_;
   std::vector<AnisoRow> anisoRow_; // scratch of the ASPH loops
-  std::vector<Tensor<Dim>> psi2x_; // Eq. 5's second moment in the physical frame, owned rows
+  // Second moments of the last force loop, owned rows, for the next updateSmoothing (no
+  // migration in between): Eq. 5 in the eta frame of H_i, and the physical-frame one of the axes.
+  std::vector<Tensor<Dim>> psi2Eta_, psi2x_;
 };
 
 } // namespace

@@ -26,10 +26,9 @@ template <int Dim> struct SphFields {
   // The kernel-gradient correction B_i = M_i^-T (velocity_gradient = "corrected"), recomputed
   // by every force evaluation before the force loop, which reads it of ghosts too.
   Field<Tensor<3>> B;
-  // ASPH (solver.method = "asph"): the smoothing tensor H (1/length, symmetric; eta = H x) and
-  // the second moment Psi_2 of the last neighbor loop (Owen 2010, Eq. 5). h then holds the
-  // longest axis, 1/lambda_min(H): the reach of the neighbor search and the ghosts.
-  Field<Tensor<Dim>> H, psi2;
+  // ASPH (solver.method = "asph"): the smoothing tensor H (1/length, symmetric; eta = H x). h
+  // then holds the longest axis, 1/lambda_min(H): the reach of the neighbor search and the ghosts.
+  Field<Tensor<Dim>> H;
 
   bool anisotropic() const { return H.valid(); }
 
@@ -70,7 +69,6 @@ template <int Dim> struct SphFields {
     if (corrected) B = s.add<Tensor<3>>("kernel_correction", none);
     if (asph) {
       H = s.add<Tensor<Dim>>("smoothing_tensor", ck);
-      psi2 = s.add<Tensor<Dim>>("psi2", none);
     }
   }
 };
