@@ -397,9 +397,22 @@ private:
     Phases::time(phases_.exchange, [&] {
       const std::size_t n = store_.localCount();
       const auto h = store_[f_.h];
-      reach_.resize(n);
-      for (std::size_t i = 0; i < n; ++i) reach_[i] = solver_->support() * h[i];
-      halo_->build(store_, f_.x, reach_, haloFields_);
+      if (f_.anisotropic()) {
+        // The bounding box of the support |H x| < k: half-width k |row d of H^-1| along axis d.
+        // Its enclosing sphere: k times the longest axis, h.
+        const auto H = store_[f_.H];
+        boxReach_.resize(n);
+        reach_.resize(n);
+        for (std::size_t i = 0; i < n; ++i) {
+          boxReach_[i] = solver_->support() * H[i].inverse().rowwise().norm();
+          reach_[i] = solver_->support() * h[i];
+        }
+        halo_->build(store_, f_.x, reach_, std::span<const Vec<Dim>>(boxReach_), haloFields_);
+      } else {
+        reach_.resize(n);
+        for (std::size_t i = 0; i < n; ++i) reach_[i] = solver_->support() * h[i];
+        halo_->build(store_, f_.x, reach_, haloFields_);
+      }
     });
     Phases::time(phases_.boundaries, [&] {
       double hmax = 0.0;
@@ -407,14 +420,22 @@ private:
       boundaries_->buildGhosts(store_, solver_->support() * mpi_.max(hmax));
     });
     Phases::time(phases_.neighbors, [&] {
+      // ASPH searches each support's ellipsoid (its bounding box), SPH its sphere.
+      const auto H = f_.anisotropic() ? store_[f_.H] : std::span<Tensor<Dim>>{};
+      const auto build = [&](const neighbors::CanonicalOrder<Dim>* order) {
+        return f_.anisotropic()
+                   ? neighbors::buildNeighborList<Dim>(
+                         store_[f_.x], store_[f_.h], std::span<const Tensor<Dim>>(H),
+                         store_.localCount(), solver_->support(), grid_, neighbors_, order)
+                   : neighbors::buildNeighborList<Dim>(store_[f_.x], store_[f_.h],
+                                                       store_.localCount(), solver_->support(),
+                                                       grid_, neighbors_, order);
+      };
       if (deck_.decomposition.reproducible) {
         const neighbors::CanonicalOrder<Dim> order{store_[f_.id], store_[f_.x], canonicalH()};
-        if (!neighbors::buildNeighborList<Dim>(store_[f_.x], store_[f_.h], store_.localCount(),
-                                               solver_->support(), grid_, neighbors_, &order))
-          canonicalLost_ = true;
+        if (!build(&order)) canonicalLost_ = true;
       } else {
-        neighbors::buildNeighborList<Dim>(store_[f_.x], store_[f_.h], store_.localCount(),
-                                          solver_->support(), grid_, neighbors_);
+        build(nullptr);
       }
       const auto cost = store_[cost_];
       for (std::size_t i = 0; i < store_.localCount(); ++i)
@@ -1049,6 +1070,7 @@ private:
   std::unique_ptr<parallel::Decomposition<Dim>> decomposition_;
   std::unique_ptr<parallel::HaloExchange<Dim>> halo_;
   std::vector<double> reach_;
+  std::vector<Vec<Dim>> boxReach_; // ASPH: the supports' bounding boxes
   std::vector<std::size_t> haloFields_, refreshFields_;
   std::size_t totalParticles_ = 0, ghostCount_ = 0;
   std::uint64_t migrated_ = 0, migratedTotal_ = 0;

@@ -18,26 +18,29 @@ HaloExchange<Dim>::HaloExchange(MPI_Comm comm, std::vector<PeriodicAxis> periodi
 
 template <int Dim>
 void HaloExchange<Dim>::describeDomains(std::span<const Vec<Dim>> x,
-                                        std::span<const double> reach) {
-  constexpr int per = 2 * Dim + 1;
+                                        std::span<const Vec<Dim>> reach,
+                                        std::span<const double> radius) {
+  constexpr int per = 3 * Dim + 1;
   std::vector<double> mine(static_cast<std::size_t>(kBoxes * per));
   const std::size_t n = x.size();
   const std::size_t chunk = (n + kBoxes - 1) / kBoxes;
   for (int b = 0; b < kBoxes; ++b) {
     Vec<Dim> lo = Vec<Dim>::Constant(std::numeric_limits<double>::infinity());
     Vec<Dim> hi = -lo;
-    double r = 0.0;
+    Vec<Dim> r = Vec<Dim>::Zero();
+    double rad = 0.0;
     const std::size_t begin = std::min(n, static_cast<std::size_t>(b) * chunk);
     const std::size_t end = std::min(n, begin + chunk);
     for (std::size_t i = begin; i < end; ++i) {
       if (!x[i].allFinite()) continue; // reported by the run's finiteness check, not here
       lo = lo.cwiseMin(x[i]);
       hi = hi.cwiseMax(x[i]);
-      r = std::max(r, reach[i]);
+      r = r.cwiseMax(reach[i]);
+      rad = std::max(rad, radius[i]);
     }
     double* out = &mine[static_cast<std::size_t>(b * per)];
-    for (int d = 0; d < Dim; ++d) out[d] = lo[d], out[Dim + d] = hi[d];
-    out[2 * Dim] = r;
+    for (int d = 0; d < Dim; ++d) out[d] = lo[d], out[Dim + d] = hi[d], out[2 * Dim + d] = r[d];
+    out[3 * Dim] = rad;
   }
   std::vector<double> all(mine.size() * static_cast<std::size_t>(size_));
   MPI_Allgather(mine.data(), static_cast<int>(mine.size()), MPI_DOUBLE, all.data(),
@@ -46,13 +49,16 @@ void HaloExchange<Dim>::describeDomains(std::span<const Vec<Dim>> x,
   rankBox_.assign(static_cast<std::size_t>(size_), Box{});
   for (std::size_t k = 0; k < boxes_.size(); ++k) {
     Box& b = boxes_[k];
-    for (int d = 0; d < Dim; ++d) b.lo[d] = all[k * per + d], b.hi[d] = all[k * per + Dim + d];
-    b.reach = all[k * per + 2 * Dim];
+    for (int d = 0; d < Dim; ++d)
+      b.lo[d] = all[k * per + d], b.hi[d] = all[k * per + Dim + d],
+      b.reach[d] = all[k * per + 2 * Dim + d];
+    b.radius = all[k * per + 3 * Dim];
     Box& u = rankBox_[k / kBoxes];
     if (k % kBoxes == 0) u = b;
     u.lo = u.lo.cwiseMin(b.lo);
     u.hi = u.hi.cwiseMax(b.hi);
-    u.reach = std::max(u.reach, b.reach);
+    u.reach = u.reach.cwiseMax(b.reach);
+    u.radius = std::max(u.radius, b.radius);
   }
 }
 
@@ -65,6 +71,16 @@ template <int Dim> double distance2(const Vec<Dim>& p, const Vec<Dim>& lo, const
     d2 += e * e;
   }
   return d2;
+}
+
+// Per-axis reach (bounding boxes of ellipsoids): every axis' distance to the box within its
+// reach. (A pair (i, j) with x_j in i's ellipsoid has |x_j - x_i|_d within i's half-width along
+// every axis d, so x_j is within the box's largest half-widths of the box.)
+template <int Dim>
+bool withinPerAxis(const Vec<Dim>& p, const Vec<Dim>& lo, const Vec<Dim>& hi, const Vec<Dim>& r) {
+  for (int d = 0; d < Dim; ++d)
+    if (std::max({lo[d] - p[d], 0.0, p[d] - hi[d]}) >= r[d]) return false;
+  return true;
 }
 
 // Slack on the reach test: the pair test r < reach is evaluated from the positions differently
@@ -86,11 +102,20 @@ template <int Dim> Vec<Dim> HaloExchange<Dim>::shiftOf(std::uint8_t code) const 
 }
 
 template <int Dim>
-void HaloExchange<Dim>::plan(std::span<const Vec<Dim>> x, std::span<const double> reach) {
+void HaloExchange<Dim>::plan(std::span<const Vec<Dim>> x, std::span<const Vec<Dim>> reach,
+                             std::span<const double> radius) {
   rows_.assign(static_cast<std::size_t>(size_), {});
   codes_.assign(static_cast<std::size_t>(size_), {});
-  double reachMax = 0.0;
-  for (const auto& u : rankBox_) reachMax = std::max(reachMax, u.reach);
+  Vec<Dim> reachMax = Vec<Dim>::Zero();
+  for (const auto& u : rankBox_) reachMax = reachMax.cwiseMax(u.reach);
+  // j reaches box b, or a particle in b reaches j: within the larger of both radii, and for
+  // ellipsoids also within the larger of both half-widths along every axis (an ellipsoid lies
+  // inside both its enclosing sphere and its bounding box).
+  const auto near = [&](std::size_t j, const Vec<Dim>& xs, const Box& b) {
+    const double rr = std::max(radius[j], b.radius) * kSlack;
+    if (distance2<Dim>(xs, b.lo, b.hi) >= rr * rr) return false;
+    return round_ || withinPerAxis<Dim>(xs, b.lo, b.hi, reach[j].cwiseMax(b.reach) * kSlack);
+  };
   std::vector<std::uint8_t> shifts;
   for (std::size_t j = 0; j < x.size(); ++j) {
     const Vec<Dim>& xj = x[j];
@@ -99,7 +124,7 @@ void HaloExchange<Dim>::plan(std::span<const Vec<Dim>> x, std::span<const double
     shifts.assign(1, 0);
     std::uint8_t weight = 1;
     for (const auto& p : periodic_) {
-      const double far = std::max(reachMax, reach[j]) * kSlack;
+      const double far = std::max(reachMax[p.axis], reach[j][p.axis]) * kSlack;
       const std::size_t m = shifts.size();
       if (xj[p.axis] - p.min < far)
         for (std::size_t k = 0; k < m; ++k)
@@ -114,13 +139,11 @@ void HaloExchange<Dim>::plan(std::span<const Vec<Dim>> x, std::span<const double
       for (int r = 0; r < size_; ++r) {
         if (r == rank_ && code == 0) continue;
         const Box& u = rankBox_[static_cast<std::size_t>(r)];
-        const double ru = std::max(reach[j], u.reach) * kSlack;
-        if (!(u.lo[0] <= u.hi[0]) || distance2<Dim>(xs, u.lo, u.hi) >= ru * ru) continue;
+        if (!(u.lo[0] <= u.hi[0]) || !near(j, xs, u)) continue;
         for (int b = 0; b < kBoxes; ++b) {
           const Box& box = boxes_[static_cast<std::size_t>(r * kBoxes + b)];
           if (!(box.lo[0] <= box.hi[0])) continue;
-          const double rb = std::max(reach[j], box.reach) * kSlack;
-          if (distance2<Dim>(xs, box.lo, box.hi) < rb * rb) {
+          if (near(j, xs, box)) {
             rows_[static_cast<std::size_t>(r)].push_back(static_cast<std::uint32_t>(j));
             codes_[static_cast<std::size_t>(r)].push_back(code);
             break;
@@ -134,11 +157,32 @@ void HaloExchange<Dim>::plan(std::span<const Vec<Dim>> x, std::span<const double
 template <int Dim>
 void HaloExchange<Dim>::build(ParticleStore& s, Field<Vec<Dim>> xf, std::span<const double> reach,
                               std::span<const std::size_t> fields) {
+  const std::size_t n = s.localCount();
+  reachScratch_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) reachScratch_[i] = Vec<Dim>::Constant(reach[i]);
+  round_ = true;
+  buildWith(s, xf, reach.first(n), fields);
+}
+
+template <int Dim>
+void HaloExchange<Dim>::build(ParticleStore& s, Field<Vec<Dim>> xf, std::span<const double> radius,
+                              std::span<const Vec<Dim>> halfWidth,
+                              std::span<const std::size_t> fields) {
+  const std::size_t n = s.localCount();
+  reachScratch_.assign(halfWidth.begin(), halfWidth.begin() + static_cast<std::ptrdiff_t>(n));
+  round_ = false;
+  buildWith(s, xf, radius.first(n), fields);
+}
+
+template <int Dim>
+void HaloExchange<Dim>::buildWith(ParticleStore& s, Field<Vec<Dim>> xf,
+                                  std::span<const double> radius,
+                                  std::span<const std::size_t> fields) {
   s.dropGhosts();
   const std::size_t n = s.localCount();
   const auto x = std::span<const Vec<Dim>>(s[xf]).first(n);
-  describeDomains(x, reach.first(n));
-  plan(x, reach.first(n));
+  describeDomains(x, reachScratch_, radius);
+  plan(x, reachScratch_, radius);
 
   std::vector<std::size_t> countTo(static_cast<std::size_t>(size_));
   for (int r = 0; r < size_; ++r)

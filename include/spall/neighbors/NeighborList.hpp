@@ -6,6 +6,7 @@
 #include "spall/core/Types.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -136,15 +137,21 @@ public:
 
   // The same block as contiguous ranges [b, e) of member positions, one per row of cells.
   template <class F> void forEachRangeNear(std::uint32_t c, std::int64_t reach, F&& range) const {
+    forEachRangeNear(c, std::array<std::int64_t, 3>{reach, reach, reach}, range);
+  }
+  // A block of (2 reach[d] + 1) cells along each axis d (an ellipsoid's bounding box).
+  template <class F>
+  void forEachRangeNear(std::uint32_t c, const std::array<std::int64_t, 3>& reach,
+                        F&& range) const {
     std::int64_t k[3] = {0, 0, 0};
     std::int64_t rem = c;
     for (int d = 0; d < Dim; ++d) {
       k[d] = rem % n_[d];
       rem /= n_[d];
     }
-    const std::int64_t r1 = Dim >= 2 ? reach : 0, r2 = Dim >= 3 ? reach : 0;
-    const std::int64_t x0 = std::max<std::int64_t>(k[0] - reach, 0);
-    const std::int64_t x1 = std::min<std::int64_t>(k[0] + reach, n_[0] - 1);
+    const std::int64_t r1 = Dim >= 2 ? reach[1] : 0, r2 = Dim >= 3 ? reach[2] : 0;
+    const std::int64_t x0 = std::max<std::int64_t>(k[0] - reach[0], 0);
+    const std::int64_t x1 = std::min<std::int64_t>(k[0] + reach[0], n_[0] - 1);
     for (std::int64_t z = std::max<std::int64_t>(k[2] - r2, 0);
          z <= std::min<std::int64_t>(k[2] + r2, n_[2] - 1); ++z) {
       for (std::int64_t y = std::max<std::int64_t>(k[1] - r1, 0);
@@ -177,10 +184,11 @@ private:
 // fixed order, members sorted within cells, pairs from the other side sorted); returns false if
 // that could not be kept (a coarsened grid): the rows are then still deterministic for this rank
 // count, but another rank count may add them in another order.
-template <int Dim>
-bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h, std::size_t owned,
-                       double support, CellGrid<Dim>& grid, NeighborList& out,
-                       const CanonicalOrder<Dim>* order = nullptr) {
+namespace detail {
+template <int Dim, bool Ellipsoidal>
+bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
+                       std::span<const Tensor<Dim>> H, std::size_t owned, double support,
+                       CellGrid<Dim>& grid, NeighborList& out, const CanonicalOrder<Dim>* order) {
   const std::size_t n = x.size();
   double hRef = order ? order->hRef : 0.0;
   if (!order && n > 0) {
@@ -197,7 +205,18 @@ bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h, s
   const double cell = grid.cellSize();
   const auto members = grid.members();
   const auto xs = grid.sortedX();
-  const auto rs = grid.sortedRadius();
+  [[maybe_unused]] const auto rs = grid.sortedRadius();
+  // Ellipsoidal supports: the metric G = H^T H of every particle (|H x|^2 = x . G x), in member
+  // order for the scatter test, and the half-widths of each support's bounding box,
+  // support sqrt((G^-1)_dd), which set the block of cells searched.
+  std::vector<Tensor<Dim>> G, Gs;
+  if constexpr (Ellipsoidal) {
+    G.resize(n);
+    for (std::size_t a = 0; a < n; ++a) G[a] = H[a].transpose() * H[a];
+    Gs.resize(n);
+    for (std::size_t m = 0; m < n; ++m) Gs[m] = G[members[m]];
+  }
+  const double support2 = support * support;
   out.offsets.assign(owned + 1, 0);
   // Reuse last build's size: a doubling vector would hold up to twice the memory it needs.
   const std::size_t expected = out.indices.size() + out.indices.size() / 16;
@@ -209,18 +228,35 @@ bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h, s
   const auto cellOf = grid.cellOf();
   for (std::size_t a = 0; a < n; ++a) {
     const Vec<Dim> xa = x[a];
-    const double ra = radius[a], ra2 = ra * ra;
-    const auto reach = static_cast<std::int64_t>(std::ceil(ra / cell));
+    [[maybe_unused]] const double ra = radius[a], ra2 = ra * ra;
+    std::array<std::int64_t, 3> reach{0, 0, 0};
+    [[maybe_unused]] Tensor<Dim> Ga;
+    if constexpr (Ellipsoidal) {
+      Ga = G[a];
+      const Tensor<Dim> Ginv = Ga.inverse();
+      for (int d = 0; d < Dim; ++d)
+        reach[d] = static_cast<std::int64_t>(std::ceil(support * std::sqrt(Ginv(d, d)) / cell));
+    } else {
+      reach.fill(static_cast<std::int64_t>(std::ceil(ra / cell)));
+    }
     // Branch-free compaction of the candidates within reach (about a quarter of the block in
-    // 3D, so a taken/not-taken branch per candidate would mispredict often).
+    // 3D, so a taken/not-taken branch per candidate would mispredict often). For ellipsoids the
+    // stored number is |H_a x|^2 instead of r^2.
     std::size_t found = 0;
     grid.forEachRangeNear(cellOf[a], reach, [&](std::uint32_t b, std::uint32_t e) {
       if (hit.size() < found + (e - b)) hit.resize(2 * (found + (e - b))), hitR2.resize(hit.size());
       for (std::uint32_t m = b; m < e; ++m) {
-        const double r2 = (xa - xs[m]).squaredNorm();
+        const Vec<Dim> d = xa - xs[m];
         hit[found] = m;
-        hitR2[found] = r2;
-        found += r2 < ra2;
+        if constexpr (Ellipsoidal) {
+          const double q2 = d.dot(Ga * d);
+          hitR2[found] = q2;
+          found += q2 < support2;
+        } else {
+          const double r2 = d.squaredNorm();
+          hitR2[found] = r2;
+          found += r2 < ra2;
+        }
       }
     });
     const bool aOwned = a < owned;
@@ -229,8 +265,14 @@ bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h, s
       if (b == a) continue;
       if (aOwned) out.indices.push_back(b);
       // b does not reach a itself: its row gets a from this side.
-      if (b < owned && hitR2[k] >= rs[m] * rs[m])
-        extra.emplace_back(b, static_cast<std::uint32_t>(a));
+      bool bReaches;
+      if constexpr (Ellipsoidal) {
+        const Vec<Dim> d = xa - xs[m];
+        bReaches = d.dot(Gs[m] * d) < support2;
+      } else {
+        bReaches = hitR2[k] < rs[m] * rs[m];
+      }
+      if (b < owned && !bReaches) extra.emplace_back(b, static_cast<std::uint32_t>(a));
     }
     if (aOwned) out.offsets[a + 1] = out.indices.size();
   }
@@ -265,6 +307,27 @@ bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h, s
     for (std::uint64_t k = end; k-- > begin;) out.indices[--write] = out.indices[k];
   }
   return kept || !order;
+}
+
+} // namespace detail
+
+template <int Dim>
+bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h, std::size_t owned,
+                       double support, CellGrid<Dim>& grid, NeighborList& out,
+                       const CanonicalOrder<Dim>* order = nullptr) {
+  return detail::buildNeighborList<Dim, false>(x, h, {}, owned, support, grid, out, order);
+}
+
+// Ellipsoidal supports (ASPH): particle a reaches the points y with |H_a (y - x_a)| < support, and
+// a pair is kept when either reaches the other. h is each particle's longest axis (1/smallest
+// eigenvalue of H): it sizes the grid (and the canonical order), while each search covers only
+// the support's bounding box.
+template <int Dim>
+bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
+                       std::span<const Tensor<Dim>> H, std::size_t owned, double support,
+                       CellGrid<Dim>& grid, NeighborList& out,
+                       const CanonicalOrder<Dim>* order = nullptr) {
+  return detail::buildNeighborList<Dim, true>(x, h, H, owned, support, grid, out, order);
 }
 
 } // namespace spall::neighbors

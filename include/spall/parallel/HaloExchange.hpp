@@ -1,14 +1,15 @@
 #pragma once
 // Remote ghosts: copies of other ranks' particles (and periodic images of anyone's, this rank's
 // included) whose kernel support can reach a particle owned here. Physics-free: the caller says
-// how far each particle reaches (support x h for SPH, the H tensor's largest axis for ASPH) and
-// which fields to send.
+// how far each particle reaches (support x h for SPH, the bounding box of the H ellipsoid for
+// ASPH) and which fields to send.
 //
 // A rank describes its domain by up to kBoxes bounding boxes of consecutive owned particles
 // (compact when the owned particles are in key order), each with the largest reach inside it.
 // Particle j goes to rank r with periodic shift s when x_j + s lies within max(reach_j, reach_b)
 // of one of r's boxes b: then every pair (i, j) with |x_i - x_j| < max(reach_i, reach_j) is
-// complete on the rank that owns i, which is what the symmetric SPH sums need.
+// complete on the rank that owns i, which is what the symmetric SPH sums need. With per-axis
+// reaches (ellipsoids) the same test holds axis by axis.
 #include "spall/core/ParticleStore.hpp"
 #include "spall/core/Types.hpp"
 
@@ -37,6 +38,11 @@ public:
   // indices) filled; received positions get their periodic shift.
   void build(ParticleStore& s, Field<Vec<Dim>> x, std::span<const double> reach,
              std::span<const std::size_t> fields);
+  // The same with ellipsoidal supports (ASPH): radius[i] encloses particle i's support and
+  // halfWidth[i][d] is its half-width along axis d (its bounding box); a pair is complete when
+  // either support's sphere and box both cover the other particle.
+  void build(ParticleStore& s, Field<Vec<Dim>> x, std::span<const double> radius,
+             std::span<const Vec<Dim>> halfWidth, std::span<const std::size_t> fields);
   // Re-sends the listed fields along the last build's plan (e.g. density after the summation).
   void refresh(ParticleStore& s, std::span<const std::size_t> fields);
 
@@ -45,10 +51,15 @@ public:
 private:
   struct Box {
     Vec<Dim> lo, hi;
-    double reach = 0.0;
+    Vec<Dim> reach = Vec<Dim>::Zero(); // largest half-width of its particles, per axis
+    double radius = 0.0;               // largest radius of its particles
   };
-  void describeDomains(std::span<const Vec<Dim>> x, std::span<const double> reach);
-  void plan(std::span<const Vec<Dim>> x, std::span<const double> reach);
+  void buildWith(ParticleStore& s, Field<Vec<Dim>> x, std::span<const double> radius,
+                 std::span<const std::size_t> fields);
+  void describeDomains(std::span<const Vec<Dim>> x, std::span<const Vec<Dim>> reach,
+                       std::span<const double> radius);
+  void plan(std::span<const Vec<Dim>> x, std::span<const Vec<Dim>> reach,
+            std::span<const double> radius);
   Vec<Dim> shiftOf(std::uint8_t code) const;
 
   MPI_Comm comm_;
@@ -59,6 +70,8 @@ private:
   std::vector<std::vector<std::uint32_t>> rows_; // owned rows to send, per rank
   std::vector<std::vector<std::uint8_t>> codes_; // periodic shift code of each, per rank
   std::size_t first_ = 0, received_ = 0;
+  bool round_ = true;                  // spheres only, or spheres and bounding boxes
+  std::vector<Vec<Dim>> reachScratch_; // the owned particles' half-widths, per axis
 };
 
 } // namespace spall::parallel

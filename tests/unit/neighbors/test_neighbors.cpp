@@ -44,3 +44,55 @@ TEST(NeighborList, MatchesBruteForce2D) {
 TEST(NeighborList, MatchesBruteForce3D) {
   compareWithBruteForce<3>(3000, 2500);
 }
+
+namespace {
+// Ellipsoidal supports (ASPH): random orientations, axes 0.01-0.1 (aspect ratios up to 10). The
+// list must hold exactly the pairs where either support |H x| < 2 covers the other particle;
+// the sphere of the longest axis would list up to 10^(Dim-1) times as many.
+template <int Dim> void compareEllipsoidsWithBruteForce(std::size_t n, std::size_t owned) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0), axis(0.01, 0.1);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<Vec<Dim>> x(n);
+  std::vector<Tensor<Dim>> H(n);
+  std::vector<double> h(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int d = 0; d < Dim; ++d) x[i][d] = u(rng);
+    Tensor<Dim> A;
+    for (int r = 0; r < Dim; ++r)
+      for (int c = 0; c < Dim; ++c) A(r, c) = g(rng);
+    const Tensor<Dim> Q = Eigen::HouseholderQR<Tensor<Dim>>(A).householderQ();
+    Vec<Dim> lengths;
+    for (int d = 0; d < Dim; ++d) lengths[d] = axis(rng);
+    H[i] = Q * lengths.cwiseInverse().asDiagonal() * Q.transpose();
+    h[i] = lengths.maxCoeff();
+  }
+  neighbors::CellGrid<Dim> grid;
+  neighbors::NeighborList nl;
+  neighbors::buildNeighborList<Dim>(x, h, std::span<const Tensor<Dim>>(H), owned, 2.0, grid, nl);
+  std::size_t pairs = 0, sphere = 0;
+  for (std::size_t i = 0; i < owned; ++i) {
+    std::set<std::uint32_t> expect;
+    for (std::size_t j = 0; j < n; ++j) {
+      if (j == i) continue;
+      const Vec<Dim> xij = x[i] - x[j];
+      if ((H[i] * xij).norm() < 2.0 || (H[j] * xij).norm() < 2.0)
+        expect.insert(static_cast<std::uint32_t>(j));
+      const double reach = 2.0 * std::max(h[i], h[j]);
+      sphere += xij.squaredNorm() < reach * reach;
+    }
+    const auto got = nl.of(i);
+    ASSERT_EQ(std::set<std::uint32_t>(got.begin(), got.end()), expect) << "particle " << i;
+    ASSERT_EQ(got.size(), expect.size()) << "a neighbor listed twice for particle " << i;
+    pairs += got.size();
+  }
+  EXPECT_LT(pairs, sphere); // the ellipses, not their enclosing spheres
+}
+} // namespace
+
+TEST(NeighborList, EllipsoidalSupportsMatchBruteForce2D) {
+  compareEllipsoidsWithBruteForce<2>(1500, 1200);
+}
+TEST(NeighborList, EllipsoidalSupportsMatchBruteForce3D) {
+  compareEllipsoidsWithBruteForce<3>(3000, 2500);
+}
