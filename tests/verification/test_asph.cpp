@@ -142,11 +142,11 @@ std::vector<int> rowNeighbors(const std::string& method) {
 // Owen's stretching rod (decks/stretching_rod_2d.toml): stretched to twice its length, SPH's round
 // support (sized by the unchanged volume per particle) reaches only the next particle along the
 // row on each side: 2 row neighbors, down from 4 at the start (+-1 and +-2 spacings inside the
-// 3-spacing support). ASPH stretches the ellipse with the rod and keeps 4 for most particles.
-// Measured at 20 us over 576 particles: SPH 2 for every one; ASPH median 4, but 56 have fewer
-// than 3 (6 have one), where the lattice is disordered and the ellipse turns off the rod axis:
-// the minimum the issue asks for is not yet met, so this checks the median, that at most 15% fall
-// below 3, and the SPH loss; the deck's header says so.
+// 3-spacing support). ASPH stretches the ellipse with the rod and keeps the second one.
+// X = 3: a particle with at least 3 row neighbors still reaches two spacings along the stretch on
+// at least one side, which SPH has lost everywhere (its 2 are the nearest on each side). Measured
+// at 20 us over 576 particles: SPH 2 for every one, ASPH at least 4 for every one, so the margin
+// is one neighbor on each side of X.
 TEST(AsphRod, StretchingRodKeepsRowNeighborsWhereSphLosesThem) {
   const auto sph = rowNeighbors("sph"), asph = rowNeighbors("asph");
   ASSERT_FALSE(sph.empty());
@@ -157,8 +157,8 @@ TEST(AsphRod, StretchingRodKeepsRowNeighborsWhereSphLosesThem) {
               sph.size(), sph.front(), sph.back(), asph.front(), asph.back(), asphMedian,
               static_cast<std::size_t>(
                   std::count_if(asph.begin(), asph.end(), [](int n) { return n < 3; })));
-  EXPECT_LE(sphMax, 2);
+  constexpr int X = 3;
+  EXPECT_LT(sphMax, X);
+  EXPECT_GE(asph.front(), X);
   EXPECT_GE(asphMedian, 4);
-  EXPECT_LE(std::count_if(asph.begin(), asph.end(), [](int n) { return n < 3; }),
-            static_cast<std::ptrdiff_t>(0.15 * static_cast<double>(asph.size())));
 }
