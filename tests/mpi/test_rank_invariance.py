@@ -54,6 +54,9 @@ CASES = [("sod_1d.toml", []), ("rod_impact_copper.toml", ["run.end_time=6e-6"]),
          ("noh_2d.toml", ["run.end_time=0.05", "run.resolution=0.5"]),
          # ASPH: H travels with the halo; aspect ratios up to ~4 in the converging flow
          ("noh_2d.toml", ["run.end_time=0.05", "run.resolution=0.5", "solver.method=asph"]),
+         # ASPH with elongated ellipses (aspect ratio ~1.7 by 5 us): ghosts and neighbors by their
+         # bounding boxes, the kernel correction B through the halo
+         ("stretching_rod_2d.toml", ["run.end_time=5e-6"]),
          ("periodic_shear_2d.toml", []),
          # strength: the deviatoric stress travels with the halo and is mirrored at walls
          ("rod_impact_copper_strength.toml", ["run.end_time=6e-6", "body.striker.velocity=[200.0]"]),

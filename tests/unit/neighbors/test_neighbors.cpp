@@ -1,6 +1,7 @@
 // The cell-list neighbor search against brute force, with unequal h and ghosts.
 #include "spall/neighbors/NeighborList.hpp"
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 #include <random>
 #include <set>
@@ -58,10 +59,11 @@ template <int Dim> void compareEllipsoidsWithBruteForce(std::size_t n, std::size
   std::vector<double> h(n);
   for (std::size_t i = 0; i < n; ++i) {
     for (int d = 0; d < Dim; ++d) x[i][d] = u(rng);
-    Tensor<Dim> A;
-    for (int r = 0; r < Dim; ++r)
-      for (int c = 0; c < Dim; ++c) A(r, c) = g(rng);
-    const Tensor<Dim> Q = Eigen::HouseholderQR<Tensor<Dim>>(A).householderQ();
+    Tensor<Dim> Q;
+    if constexpr (Dim == 2)
+      Q = Eigen::Rotation2Dd(6.283185307179586 * u(rng)).toRotationMatrix();
+    else
+      Q = Eigen::Quaterniond(g(rng), g(rng), g(rng), g(rng)).normalized().toRotationMatrix();
     Vec<Dim> lengths;
     for (int d = 0; d < Dim; ++d) lengths[d] = axis(rng);
     H[i] = Q * lengths.cwiseInverse().asDiagonal() * Q.transpose();
