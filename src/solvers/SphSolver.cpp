@@ -354,40 +354,45 @@ private:
         const Vec<Dim> xij = xi - x[j];
         const double r2 = xij.squaredNorm();
         if (r2 == 0.0) continue; // coincident particles exert no force on each other
-        const double r = std::sqrt(r2);
         const RowScratch& rj = rowScratch_[j];
-        const double rInv = 1.0 / r;
         // The pair's gradient (average of both supports'), i's own one (continuity), and the
-        // smoothing scales along the pair (viscosity): h, or r/eta for ASPH.
+        // mean smoothing scale along the pair (viscosity): h, or r/eta for ASPH, where r itself
+        // is needed only then (the kernels work in eta).
         Vec<Dim> gradW, gradWi;
-        double hAlongI = hi, hAlongJ = h[j];
+        double hbar = 0.5 * (hi + h[j]);
+        [[maybe_unused]] double hbarOverR = 0.0;
         [[maybe_unused]] double qMean; // the pair's mean normalised distance
         if constexpr (Aniso) {
           // In the metric G = H^T H: eta^2 = x . G x and the gradient det(H) W'(eta) G x / eta,
           // so the pair needs two matrix-vector products, not four.
           const AnisoRow &rowI = anisoRow_[i], &rowJ = anisoRow_[j];
           const Vec<Dim> gi = rowI.G * xij, gj = rowJ.G * xij;
-          const double etaI = std::sqrt(xij.dot(gi)), etaJ = std::sqrt(xij.dot(gj));
-          const double etaIInv = 1.0 / etaI, etaJInv = 1.0 / etaJ;
+          const double etaI2 = xij.dot(gi), etaJ2 = xij.dot(gj);
+          if (!(etaI2 > 0.0 && etaJ2 > 0.0)) continue; // coincident in eta (underflow)
+          // The divisions start from the squares, in parallel with the square roots (the pair's
+          // chain of dependent latencies is what this loop waits on).
+          const double r2Inv = 1.0 / r2, etaI2Inv = 1.0 / etaI2, etaJ2Inv = 1.0 / etaJ2;
+          const double etaI = std::sqrt(etaI2), etaJ = std::sqrt(etaJ2);
+          const double etaIInv = etaI * etaI2Inv, etaJInv = etaJ * etaJ2Inv;
           const double dfI = etaI < K::support ? K::df(etaI) : 0.0;
           const double dfJ = etaJ < K::support ? K::df(etaJ) : 0.0;
           gradWi = (rowI.normGrad * dfI * etaIInv) * gi;
           gradW = 0.5 * (gradWi + (rowJ.normGrad * dfJ * etaJInv) * gj);
-          hAlongI = r * etaIInv, hAlongJ = r * etaJInv;
+          hbarOverR = 0.5 * (etaIInv + etaJInv);
           qMean = 0.5 * (etaI + etaJ);
-          if (etaI < K::support) {
-            // Owen (2010), Eqs. 1 and 5 with W^H = |dW/deta| (Sec. II-C); the second moments of
-            // the neighbor directions (see updateSmoothingTensor), both as sums of x x^T: the
-            // eta-frame one is H_i (sum w^2 x x^T) H_i, applied once per particle.
-            const double wH = sigma * std::abs(dfI);
-            psii += wH;
-            // w^2 e e^T = (W^H/eta^(nu-1))^2 e^ e^T; W^H^2 x^ x^ / r^2: closer is heavier.
-            const double w = wH * ipow<Dim>(etaIInv), wx = wH * rInv * rInv;
-            const MatD xx = xij * xij.transpose();
-            psi2i.noalias() += (w * w) * xx;
-            psi2xi.noalias() += (wx * wx) * xx;
-          }
+          // Owen (2010), Eqs. 1 and 5 with W^H = |dW/deta| (Sec. II-C); the second moments of the
+          // neighbor directions (see updateSmoothingTensor), both as sums of x x^T: the eta-frame
+          // one is H_i (sum w^2 x x^T) H_i, applied once per particle. W^H = 0 outside i's
+          // support, so a neighbor that only j's support reaches adds nothing (no branch).
+          const double wH = sigma * std::abs(dfI);
+          psii += wH;
+          // w^2 e e^T = (W^H/eta^(nu-1))^2 e^ e^T; W^H^2 x^ x^ / r^2: closer is heavier.
+          const double w = wH * ipow<Dim>(etaIInv), wx = wH * r2Inv;
+          const MatD xx = xij * xij.transpose();
+          psi2i.noalias() += (w * w) * xx;
+          psi2xi.noalias() += (wx * wx) * xx;
         } else {
+          const double r = std::sqrt(r2), rInv = 1.0 / r;
           const double qi = r * hiInv, qj = r * rj.hInv;
           const double dWi = qi < K::support ? gradNormI * K::df(qi) : 0.0;
           const double dWj = qj < K::support ? rj.gradNorm * K::df(qj) : 0.0;
@@ -409,7 +414,7 @@ private:
         double Pij = 0.0;
         if (vr < 0.0) {
           // Monaghan & Gingold (1983) viscosity (Lam et al. 2001, Eqs. 22-24).
-          const double hbar = 0.5 * (hAlongI + hAlongJ);
+          if constexpr (Aniso) hbar = hbarOverR * std::sqrt(r2);
           const double mu = hbar * vr / (r2 + 0.01 * hbar * hbar);
           const double cbar = 0.5 * (ci + cs[j]), rhobar = 0.5 * (rhoi + rho[j]);
           Pij = (-alpha * cbar * mu + beta * mu * mu) / rhobar;
@@ -501,8 +506,7 @@ private:
       // shock by ~40% here; the gather form gives the post-shock density within 8%.)
       drhodt[i] = rhoi * drhoi;
       psi[i] = psii;
-      if constexpr (Aniso)
-        psi2Eta_[i] = anisoRow_[i].H * psi2i * anisoRow_[i].H, psi2x_[i] = psi2xi;
+      if constexpr (Aniso) psi2Eta_[i] = s_[f_.H][i] * psi2i * s_[f_.H][i], psi2x_[i] = psi2xi;
       muMax[i] = mui;
       if constexpr (Balsara) {
         divv[i] = divi;
@@ -513,15 +517,16 @@ private:
 
   // ---- ASPH -------------------------------------------------------------------------------
   struct AnisoRow {
-    Tensor<Dim> H, G; // G = H^T H, the metric of eta: eta^2 = x . G x
-    double normGrad;  // sigma det H, the kernel's normalisation
+    Tensor<Dim> G;   // H^T H, the metric of eta: eta^2 = x . G x
+    double normGrad; // sigma det H, the kernel's normalisation
   };
-  // H, H^T H and sigma det H of every row, ghosts included, once per loop.
+  // H^T H and sigma det H of every row, ghosts included, once per loop (what the pair loop
+  // gathers of a neighbor, packed).
   void prepareAnisoRows() {
     const auto Hs = s_[f_.H];
     anisoRow_.resize(s_.size());
     for (std::size_t j = 0; j < s_.size(); ++j)
-      anisoRow_[j] = {Hs[j], Hs[j].transpose() * Hs[j], K::sigma() * Hs[j].determinant()};
+      anisoRow_[j] = {Hs[j].transpose() * Hs[j], K::sigma() * Hs[j].determinant()};
   }
   // grad_x W(|H_k x|) at x = x_ij with row k's tensor: det(H) W'(eta) H^T H x / eta.
   Vec<Dim> anisoGradient(std::size_t k, const Vec<Dim>& xij) const {
@@ -560,9 +565,8 @@ private:
       // neighbors on one line only keeps its shape). H' = (H T^2 H)^(1/2) shares the
       // eigenvectors of H T^2 H, its eigenvalues are their square roots.
       Vec<Dim> lambda;
-      Tensor<Dim> Q;
-      const SymmetricEigen<Dim> psi2 = symmetricEigen<Dim>(psi2Eta_[i]);
-      const auto& mu = psi2.values;
+      Tensor<Dim> G = Hs[i] * Hs[i];
+      const Vec<Dim> mu = symmetricEigenvalues<Dim>(psi2Eta_[i]);
       if (mu[0] > 1e-6 * mu[Dim - 1] && mu[0] > 0.0) {
         // Relaxed like the size (Eqs. 2-3): half the correction per step, at most 20% per axis,
         // so that a transient neighborhood (a particle passing between rows) cannot flip or
@@ -570,24 +574,22 @@ private:
         Vec<Dim> t = mu.cwiseSqrt().cwiseSqrt();
         t /= root<Dim>(t.prod());
         t = t.cwiseMax(1.0 / 1.2).cwiseMin(1.2);
-        const Tensor<Dim> T2 = psi2.vectors * t.cwiseAbs2().asDiagonal() * psi2.vectors.transpose();
-        const Tensor<Dim> G = Hs[i] * T2 * Hs[i];
-        const SymmetricEigen<Dim> g = symmetricEigen<Dim>(0.5 * (G + G.transpose()));
-        lambda = g.values.cwiseMax(0.0).cwiseSqrt();
-        Q = g.vectors;
-      } else {
-        const SymmetricEigen<Dim> g = symmetricEigen<Dim>(Hs[i]);
-        lambda = g.values;
-        Q = g.vectors;
+        const Tensor<Dim> T2 = spectralMap(psi2Eta_[i], mu, t.cwiseAbs2());
+        G = Hs[i] * T2 * Hs[i];
+        G = 0.5 * (G + G.transpose());
       }
+      lambda = symmetricEigenvalues<Dim>(G).cwiseMax(0.0).cwiseSqrt();
       // The axes from a physical-frame moment, sum_j W^H(eta_j)^2 x^_j x^_j / r_j^2 (Eq. 5 with
       // the physical distance in place of eta, so that closer neighbors always weigh more): it
       // keeps the symmetry of the node distribution, which the eta-frame correction alone can
       // break (on the distorted lattice 179 of 204 particles settled 7 degrees off, at one of
       // two mirror-image states whose eta-frame moment is isotropic too). Its eigenvectors in
       // ascending order carry H's eigenvalues in ascending order.
+      // (Where that moment is degenerate, a particle with neighbors on one line, the axes of the
+      // corrected H stay.)
       const SymmetricEigen<Dim> axes = symmetricEigen<Dim>(psi2x_[i]);
-      if (axes.values[0] > 1e-6 * axes.values[Dim - 1] && axes.values[0] > 0.0) Q = axes.vectors;
+      const bool axesKnown = axes.values[0] > 1e-6 * axes.values[Dim - 1] && axes.values[0] > 0.0;
+      const Tensor<Dim> Q = axesKnown ? axes.vectors : symmetricEigen<Dim>(G).vectors;
       lambda *= size / root<Dim>(lambda.prod());
       // Limits on the axes 1/lambda.
       const double hVolume = cfg_.h_max_ratio * target * root<Dim>(m[i] / rho[i]);
@@ -599,6 +601,22 @@ private:
       for (int k = 0; k < Dim; ++k) lambda[k] = std::max(lambda[k], lambdaMin);
       Hs[i] = Q * lambda.asDiagonal() * Q.transpose();
       h[i] = 1.0 / lambda.minCoeff();
+    }
+  }
+
+  // f(M) for a symmetric M with eigenvalues mu and f(mu) = fmu. In 2D without eigenvectors:
+  // f(M) = f(mu_0) I + (f(mu_1) - f(mu_0)) P with P = (M - mu_0 I)/(mu_1 - mu_0), the projector
+  // onto the larger eigenvalue's axis (for nearly equal eigenvalues f(M) ~ f(mu_0) I).
+  static Tensor<Dim> spectralMap(const Tensor<Dim>& M, const Vec<Dim>& mu, const Vec<Dim>& fmu) {
+    if constexpr (Dim == 2) {
+      Tensor<2> out = fmu[0] * Tensor<2>::Identity();
+      const double gap = mu[1] - mu[0];
+      if (gap > 1e-12 * std::abs(mu[1]))
+        out += ((fmu[1] - fmu[0]) / gap) * (M - mu[0] * Tensor<2>::Identity());
+      return out;
+    } else {
+      const SymmetricEigen<Dim> e = symmetricEigen<Dim>(M);
+      return e.vectors * fmu.asDiagonal() * e.vectors.transpose();
     }
   }
 

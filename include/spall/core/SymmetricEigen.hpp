@@ -5,7 +5,9 @@
 // whole smoothing update around it. 1D and 3D use Eigen's direct solver.
 #include "spall/core/Types.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace spall {
 
@@ -20,16 +22,32 @@ template <int Dim> SymmetricEigen<Dim> symmetricEigen(const Tensor<Dim>& M) {
     out.values = M;
     out.vectors.setOnes();
   } else if constexpr (Dim == 2) {
-    const double a = M(0, 0), b = 0.5 * (M(0, 1) + M(1, 0)), c = M(1, 1);
-    const double mean = 0.5 * (a + c), rad = std::sqrt(0.25 * (a - c) * (a - c) + b * b);
-    out.values = Vec<2>(mean - rad, mean + rad);
-    // (b, l1 - a) and (l1 - c, b) both point along the eigenvector of l1; the longer one is the
-    // better conditioned (they differ when b is small).
-    const double l1 = mean + rad;
-    Vec<2> u(b, l1 - a), w(l1 - c, b);
-    const Vec<2>& e = u.squaredNorm() >= w.squaredNorm() ? u : w;
-    const double n2 = e.squaredNorm();
-    const Vec<2> e1 = n2 > 0.0 ? Vec<2>(e / std::sqrt(n2)) : Vec<2>(0.0, 1.0);
+    // Scaled to entries of order one, so that nothing overflows.
+    const double b0 = 0.5 * (M(0, 1) + M(1, 0));
+    const double scale = std::max({std::abs(M(0, 0)), std::abs(M(1, 1)), std::abs(b0)});
+    if (!(scale > 0.0) || !std::isfinite(scale)) {
+      out.values = Vec<2>(M(0, 0), M(1, 1));
+      out.vectors.setIdentity();
+      if (scale == 0.0) return out;
+      out.values.setConstant(std::numeric_limits<double>::quiet_NaN());
+      return out;
+    }
+    const double inv = 1.0 / scale;
+    const double a = M(0, 0) * inv, b = b0 * inv, c = M(1, 1) * inv;
+    const double half = 0.5 * (a - c), mean = 0.5 * (a + c);
+    // hypot (slow) only where the squares would underflow: b and a - c both tiny against the
+    // diagonal.
+    double rad = std::sqrt(half * half + b * b);
+    if (rad < 1e-140) rad = std::hypot(half, b);
+    out.values = Vec<2>(scale * (mean - rad), scale * (mean + rad));
+    // (b, l1 - a) and (l1 - c, b) both point along the eigenvector of l1 = mean + rad; written
+    // as (b, rad - half) and (rad + half, b) so that the longer one, the better conditioned,
+    // carries no cancellation (nearly equal eigenvalues keep accurate vectors).
+    const Vec<2> u(b, rad - half), w(rad + half, b);
+    const Vec<2>& e = u.cwiseAbs().maxCoeff() >= w.cwiseAbs().maxCoeff() ? u : w;
+    double n = std::sqrt(e[0] * e[0] + e[1] * e[1]);
+    if (n < 1e-140) n = std::hypot(e[0], e[1]);
+    const Vec<2> e1 = n > 0.0 ? Vec<2>(e / n) : Vec<2>(0.0, 1.0);
     out.vectors << -e1[1], e1[0], e1[0], e1[1];
   } else {
     Eigen::SelfAdjointEigenSolver<Tensor<Dim>> eig;
@@ -38,6 +56,21 @@ template <int Dim> SymmetricEigen<Dim> symmetricEigen(const Tensor<Dim>& M) {
     out.vectors = eig.eigenvectors();
   }
   return out;
+}
+
+// The eigenvalues alone, ascending.
+template <int Dim> Vec<Dim> symmetricEigenvalues(const Tensor<Dim>& M) {
+  if constexpr (Dim == 2) {
+    const double b0 = 0.5 * (M(0, 1) + M(1, 0));
+    const double scale = std::max({std::abs(M(0, 0)), std::abs(M(1, 1)), std::abs(b0)});
+    if (!(scale > 0.0) || !std::isfinite(scale)) return symmetricEigen<2>(M).values;
+    const double inv = 1.0 / scale;
+    const double half = 0.5 * (M(0, 0) - M(1, 1)) * inv, mean = 0.5 * (M(0, 0) + M(1, 1)) * inv;
+    const double b = b0 * inv, rad = std::sqrt(half * half + b * b);
+    return Vec<2>(scale * (mean - rad), scale * (mean + rad));
+  } else {
+    return symmetricEigen<Dim>(M).values;
+  }
 }
 
 // The largest eigenvalue alone.

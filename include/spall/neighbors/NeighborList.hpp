@@ -1,6 +1,7 @@
 #pragma once
 // Neighbor search over owned + ghost particles with a uniform cell grid (linked cells via a
-// counting sort). A pair (i, j) is kept when r_ij < support * max(h_i, h_j): the symmetrised
+// counting sort). A pair (i, j) is kept when r_ij < support * max(h_i, h_j), or for ellipsoidal
+// supports (ASPH) when either support covers the other particle: the symmetrised
 // (gather-scatter) interaction of the SPH equations needs both sides' supports. Lists are built
 // for owned particles only, in compressed rows of 32-bit indices (memory: ~4 bytes per pair).
 #include "spall/core/Types.hpp"
@@ -176,7 +177,8 @@ private:
 };
 
 // Builds the neighbor lists of the first `owned` particles of x (the rest are ghosts): every j
-// with r_ij < support * max(h_i, h_j). Each particle gathers within its own support; a pair that
+// with r_ij < support * max(h_i, h_j) (spheres; the ellipsoidal variant below). Each particle
+// gathers within its own support; a pair that
 // only the larger support reaches is found from that side and added to the other's list.
 // Without `order` the grid is sized by the local median h, so that a few particles with a large
 // h (free surfaces, a blast's hot core) do not coarsen the search for all. With `order` the grid
@@ -209,12 +211,10 @@ bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
   // Ellipsoidal supports: the metric G = H^T H of every particle (|H x|^2 = x . G x), in member
   // order for the scatter test, and the half-widths of each support's bounding box,
   // support sqrt((G^-1)_dd), which set the block of cells searched.
-  std::vector<Tensor<Dim>> G, Gs;
+  std::vector<Tensor<Dim>> Gs;
   if constexpr (Ellipsoidal) {
-    G.resize(n);
-    for (std::size_t a = 0; a < n; ++a) G[a] = H[a].transpose() * H[a];
     Gs.resize(n);
-    for (std::size_t m = 0; m < n; ++m) Gs[m] = G[members[m]];
+    for (std::size_t m = 0; m < n; ++m) Gs[m] = H[members[m]].transpose() * H[members[m]];
   }
   const double support2 = support * support;
   out.offsets.assign(owned + 1, 0);
@@ -232,16 +232,20 @@ bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
     std::array<std::int64_t, 3> reach{0, 0, 0};
     [[maybe_unused]] Tensor<Dim> Ga;
     if constexpr (Ellipsoidal) {
-      Ga = G[a];
+      Ga = H[a].transpose() * H[a];
       const Tensor<Dim> Ginv = Ga.inverse();
-      for (int d = 0; d < Dim; ++d)
-        reach[d] = static_cast<std::int64_t>(std::ceil(support * std::sqrt(Ginv(d, d)) / cell));
+      // (A broken H, non-finite, searches the whole grid and finds nothing: the run's
+      // finiteness check reports the particle.)
+      for (int d = 0; d < Dim; ++d) {
+        const double cells = std::ceil(support * std::sqrt(Ginv(d, d)) / cell);
+        reach[d] = cells < 1e9 ? static_cast<std::int64_t>(cells) : std::int64_t{1000000000};
+      }
     } else {
       reach.fill(static_cast<std::int64_t>(std::ceil(ra / cell)));
     }
     // Branch-free compaction of the candidates within reach (about a quarter of the block in
     // 3D, so a taken/not-taken branch per candidate would mispredict often). For ellipsoids the
-    // stored number is |H_a x|^2 instead of r^2.
+    // test is |H_a x|^2 < support^2.
     std::size_t found = 0;
     grid.forEachRangeNear(cellOf[a], reach, [&](std::uint32_t b, std::uint32_t e) {
       if (hit.size() < found + (e - b)) hit.resize(2 * (found + (e - b))), hitR2.resize(hit.size());
@@ -249,9 +253,7 @@ bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
         const Vec<Dim> d = xa - xs[m];
         hit[found] = m;
         if constexpr (Ellipsoidal) {
-          const double q2 = d.dot(Ga * d);
-          hitR2[found] = q2;
-          found += q2 < support2;
+          found += d.dot(Ga * d) < support2;
         } else {
           const double r2 = d.squaredNorm();
           hitR2[found] = r2;
@@ -264,7 +266,9 @@ bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
       const std::uint32_t m = hit[k], b = members[m];
       if (b == a) continue;
       if (aOwned) out.indices.push_back(b);
-      // b does not reach a itself: its row gets a from this side.
+      // b does not reach a itself: its row gets a from this side. (For ellipsoids the test is
+      // b's gather test evaluated again here; should rounding ever decide a pair at exactly
+      // |H x| = support differently from the two sides, the pair sits where W and W' vanish.)
       bool bReaches;
       if constexpr (Ellipsoidal) {
         const Vec<Dim> d = xa - xs[m];

@@ -34,22 +34,44 @@ std::uint64_t mortonKey(const std::array<std::uint64_t, Dim>& c, int bits = keyB
   return key;
 }
 
+// Spreads the low bits of v so that bit b lands on bit b * Dim (the rest zero): Dim = 2 takes
+// 32 bits, Dim = 3 takes 21.
+template <int Dim> constexpr std::uint64_t spreadBits(std::uint64_t v) {
+  if constexpr (Dim == 2) {
+    v &= 0xffffffffu;
+    v = (v | (v << 16)) & 0x0000ffff0000ffffull;
+    v = (v | (v << 8)) & 0x00ff00ff00ff00ffull;
+    v = (v | (v << 4)) & 0x0f0f0f0f0f0f0f0full;
+    v = (v | (v << 2)) & 0x3333333333333333ull;
+    v = (v | (v << 1)) & 0x5555555555555555ull;
+  } else if constexpr (Dim == 3) {
+    v &= 0x1fffffu;
+    v = (v | (v << 32)) & 0x001f00000000ffffull;
+    v = (v | (v << 16)) & 0x001f0000ff0000ffull;
+    v = (v | (v << 8)) & 0x100f00f00f00f00full;
+    v = (v | (v << 4)) & 0x10c30c30c30c30c3ull;
+    v = (v | (v << 2)) & 0x1249249249249249ull;
+  }
+  return v;
+}
+
 // Hilbert key of integer coordinates with `bits` bits each (Skilling 2004, AxesToTranspose).
+// Branch-free: the invert/exchange choice depends on the coordinates' bits, which a branch
+// mispredicts half the time (the keys of every particle are taken every step for migration).
 template <int Dim>
 std::uint64_t hilbertKey(std::array<std::uint64_t, Dim> X, int bits = keyBits<Dim>()) {
   if constexpr (Dim == 1) return X[0];
   const std::uint64_t M = std::uint64_t{1} << (bits - 1);
-  // Inverse undo of the excess work.
+  // Inverse undo of the excess work: where bit Q of X[i] is set, invert the low bits of X[0];
+  // otherwise exchange them with X[i]'s.
   for (std::uint64_t Q = M; Q > 1; Q >>= 1) {
     const std::uint64_t P = Q - 1;
     for (int i = 0; i < Dim; ++i) {
-      if (X[static_cast<std::size_t>(i)] & Q) {
-        X[0] ^= P; // invert
-      } else {     // exchange
-        const std::uint64_t t = (X[0] ^ X[static_cast<std::size_t>(i)]) & P;
-        X[0] ^= t;
-        X[static_cast<std::size_t>(i)] ^= t;
-      }
+      const std::uint64_t set =
+          std::uint64_t{0} - static_cast<std::uint64_t>((X[static_cast<std::size_t>(i)] & Q) != 0);
+      const std::uint64_t t = (X[0] ^ X[static_cast<std::size_t>(i)]) & P & ~set;
+      X[0] ^= (P & set) | t;
+      X[static_cast<std::size_t>(i)] ^= t;
     }
   }
   // Gray encode.
@@ -59,10 +81,12 @@ std::uint64_t hilbertKey(std::array<std::uint64_t, Dim> X, int bits = keyBits<Di
   for (std::uint64_t Q = M; Q > 1; Q >>= 1)
     if (X[Dim - 1] & Q) t ^= Q - 1;
   for (int i = 0; i < Dim; ++i) X[static_cast<std::size_t>(i)] ^= t;
-  // Interleave, axis 0 most significant within each level.
+  // Interleave, axis 0 most significant within each level: bit b of axis i goes to
+  // b * Dim + (Dim - 1 - i).
+  const std::uint64_t low = bits >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << bits) - 1;
   std::uint64_t key = 0;
-  for (int b = bits - 1; b >= 0; --b)
-    for (int i = 0; i < Dim; ++i) key = (key << 1) | ((X[static_cast<std::size_t>(i)] >> b) & 1u);
+  for (int i = 0; i < Dim; ++i)
+    key |= spreadBits<Dim>(X[static_cast<std::size_t>(i)] & low) << (Dim - 1 - i);
   return key;
 }
 
