@@ -566,7 +566,12 @@ private:
       // eigenvectors of H T^2 H, its eigenvalues are their square roots.
       Vec<Dim> lambda;
       Tensor<Dim> G = Hs[i] * Hs[i];
-      const Vec<Dim> mu = symmetricEigenvalues<Dim>(psi2Eta_[i]);
+      // (2D needs only the eigenvalues of Psi_2, see spectralMap; 3D its eigenvectors too.)
+      const SymmetricEigen<Dim> psi2 =
+          Dim == 2
+              ? SymmetricEigen<Dim>{symmetricEigenvalues<Dim>(psi2Eta_[i]), Tensor<Dim>::Zero()}
+              : symmetricEigen<Dim>(psi2Eta_[i]);
+      const Vec<Dim>& mu = psi2.values;
       if (mu[0] > 1e-6 * mu[Dim - 1] && mu[0] > 0.0) {
         // Relaxed like the size (Eqs. 2-3): half the correction per step, at most 20% per axis,
         // so that a transient neighborhood (a particle passing between rows) cannot flip or
@@ -574,7 +579,7 @@ private:
         Vec<Dim> t = mu.cwiseSqrt().cwiseSqrt();
         t /= root<Dim>(t.prod());
         t = t.cwiseMax(1.0 / 1.2).cwiseMin(1.2);
-        const Tensor<Dim> T2 = spectralMap(psi2Eta_[i], mu, t.cwiseAbs2());
+        const Tensor<Dim> T2 = spectralMap(psi2Eta_[i], psi2, t.cwiseAbs2());
         G = Hs[i] * T2 * Hs[i];
         G = 0.5 * (G + G.transpose());
       }
@@ -604,18 +609,20 @@ private:
     }
   }
 
-  // f(M) for a symmetric M with eigenvalues mu and f(mu) = fmu. In 2D without eigenvectors:
-  // f(M) = f(mu_0) I + (f(mu_1) - f(mu_0)) P with P = (M - mu_0 I)/(mu_1 - mu_0), the projector
-  // onto the larger eigenvalue's axis (for nearly equal eigenvalues f(M) ~ f(mu_0) I).
-  static Tensor<Dim> spectralMap(const Tensor<Dim>& M, const Vec<Dim>& mu, const Vec<Dim>& fmu) {
+  // f(M) for a symmetric M with eigen-decomposition e and f(e.values) = fmu. In 2D without
+  // eigenvectors: f(M) = f(mu_0) I + (f(mu_1) - f(mu_0)) P with P = (M - mu_0 I)/(mu_1 - mu_0),
+  // the projector onto the larger eigenvalue's axis (for nearly equal eigenvalues f(M) ~
+  // f(mu_0) I).
+  static Tensor<Dim> spectralMap(const Tensor<Dim>& M, const SymmetricEigen<Dim>& e,
+                                 const Vec<Dim>& fmu) {
     if constexpr (Dim == 2) {
+      const Vec<2>& mu = e.values;
       Tensor<2> out = fmu[0] * Tensor<2>::Identity();
       const double gap = mu[1] - mu[0];
       if (gap > 1e-12 * std::abs(mu[1]))
         out += ((fmu[1] - fmu[0]) / gap) * (M - mu[0] * Tensor<2>::Identity());
       return out;
     } else {
-      const SymmetricEigen<Dim> e = symmetricEigen<Dim>(M);
       return e.vectors * fmu.asDiagonal() * e.vectors.transpose();
     }
   }

@@ -68,8 +68,12 @@ template <int Dim> Vec<Dim> symmetricEigenvalues(const Tensor<Dim>& M) {
     const double half = 0.5 * (M(0, 0) - M(1, 1)) * inv, mean = 0.5 * (M(0, 0) + M(1, 1)) * inv;
     const double b = b0 * inv, rad = std::sqrt(half * half + b * b);
     return Vec<2>(scale * (mean - rad), scale * (mean + rad));
+  } else if constexpr (Dim == 1) {
+    return M;
   } else {
-    return symmetricEigen<Dim>(M).values;
+    Eigen::SelfAdjointEigenSolver<Tensor<Dim>> eig;
+    eig.computeDirect(M, Eigen::EigenvaluesOnly);
+    return eig.eigenvalues();
   }
 }
 

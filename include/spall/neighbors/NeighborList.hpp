@@ -211,10 +211,24 @@ bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
   // Ellipsoidal supports: the metric G = H^T H of every particle (|H x|^2 = x . G x), in member
   // order for the scatter test, and the half-widths of each support's bounding box,
   // support sqrt((G^-1)_dd), which set the block of cells searched.
+  // Also the square of an inscribed sphere's radius, support / |H|_inf (|H|_inf, the largest
+  // absolute row sum, bounds the largest eigenvalue): inside it a particle is covered without
+  // evaluating the quadratic form, which then remains for the thin shell between the spheres.
+  // (Both sides of a pair evaluate these with the same expressions, so they agree bit for bit.)
+  const auto innerRadius2 = [support](const Tensor<Dim>& Hm) {
+    const double rin = support / Hm.cwiseAbs().rowwise().sum().maxCoeff();
+    return rin * rin;
+  };
   std::vector<Tensor<Dim>> Gs;
+  std::vector<double> inner2s;
   if constexpr (Ellipsoidal) {
     Gs.resize(n);
-    for (std::size_t m = 0; m < n; ++m) Gs[m] = H[members[m]].transpose() * H[members[m]];
+    inner2s.resize(n);
+    for (std::size_t m = 0; m < n; ++m) {
+      const Tensor<Dim>& Hm = H[members[m]];
+      Gs[m] = Hm.transpose() * Hm;
+      inner2s[m] = innerRadius2(Hm);
+    }
   }
   const double support2 = support * support;
   out.offsets.assign(owned + 1, 0);
@@ -228,7 +242,9 @@ bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
   const auto cellOf = grid.cellOf();
   for (std::size_t a = 0; a < n; ++a) {
     const Vec<Dim> xa = x[a];
-    [[maybe_unused]] const double ra = radius[a], ra2 = ra * ra;
+    // (For ellipsoids the sphere is only a first cut, a little wider so that the ellipsoid
+    // test alone decides: h and H agree to rounding only.)
+    const double ra = radius[a], ra2 = ra * ra * (Ellipsoidal ? 1.0 + 1e-9 : 1.0);
     std::array<std::int64_t, 3> reach{0, 0, 0};
     [[maybe_unused]] Tensor<Dim> Ga;
     if constexpr (Ellipsoidal) {
@@ -244,23 +260,36 @@ bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
       reach.fill(static_cast<std::int64_t>(std::ceil(ra / cell)));
     }
     // Branch-free compaction of the candidates within reach (about a quarter of the block in
-    // 3D, so a taken/not-taken branch per candidate would mispredict often). For ellipsoids the
-    // test is |H_a x|^2 < support^2.
+    // 3D, so a taken/not-taken branch per candidate would mispredict often).
     std::size_t found = 0;
     grid.forEachRangeNear(cellOf[a], reach, [&](std::uint32_t b, std::uint32_t e) {
       if (hit.size() < found + (e - b)) hit.resize(2 * (found + (e - b))), hitR2.resize(hit.size());
       for (std::uint32_t m = b; m < e; ++m) {
         const Vec<Dim> d = xa - xs[m];
         hit[found] = m;
-        if constexpr (Ellipsoidal) {
-          found += d.dot(Ga * d) < support2;
-        } else {
-          const double r2 = d.squaredNorm();
-          hitR2[found] = r2;
-          found += r2 < ra2;
-        }
+        const double r2 = d.squaredNorm();
+        hitR2[found] = r2;
+        found += r2 < ra2;
       }
     });
+    if constexpr (Ellipsoidal) {
+      // The enclosing sphere above (radius: the longest axis) was the cheap first cut; now the
+      // ellipsoid itself, on the few that passed.
+      const double inner2 = innerRadius2(H[a]);
+      std::size_t kept = 0;
+      for (std::size_t k = 0; k < found; ++k) {
+        const std::uint32_t m = hit[k];
+        bool in = hitR2[k] < inner2;
+        if (!in) {
+          const Vec<Dim> d = xa - xs[m];
+          in = d.dot(Ga * d) < support2;
+        }
+        hit[kept] = m;
+        hitR2[kept] = hitR2[k];
+        kept += in;
+      }
+      found = kept;
+    }
     const bool aOwned = a < owned;
     for (std::size_t k = 0; k < found; ++k) {
       const std::uint32_t m = hit[k], b = members[m];
@@ -271,8 +300,14 @@ bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
       // |H x| = support differently from the two sides, the pair sits where W and W' vanish.)
       bool bReaches;
       if constexpr (Ellipsoidal) {
-        const Vec<Dim> d = xa - xs[m];
-        bReaches = d.dot(Gs[m] * d) < support2;
+        if (hitR2[k] < inner2s[m]) {
+          bReaches = true;
+        } else if (hitR2[k] >= rs[m] * rs[m] * (1.0 + 1e-9)) {
+          bReaches = false; // outside b's enclosing sphere
+        } else {
+          const Vec<Dim> d = xa - xs[m];
+          bReaches = d.dot(Gs[m] * d) < support2;
+        }
       } else {
         bReaches = hitR2[k] < rs[m] * rs[m];
       }
