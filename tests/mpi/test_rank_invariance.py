@@ -60,7 +60,9 @@ CASES = [("sod_1d.toml", []), ("rod_impact_copper.toml", ["run.end_time=6e-6"]),
          ("periodic_shear_2d.toml", []),
          # strength: the deviatoric stress travels with the halo and is mirrored at walls
          ("rod_impact_copper_strength.toml", ["run.end_time=6e-6", "body.striker.velocity=[200.0]"]),
-         ("taylor_bar_3d.toml", ["run.resolution=0.4", "run.max_steps=20"])]
+         ("taylor_bar_3d.toml", ["run.resolution=0.4", "run.max_steps=20"]),
+         # ASPH in 3D: ellipsoids against the rigid wall (mirrored H) and across ranks
+         ("taylor_bar_3d.toml", ["run.resolution=0.4", "run.max_steps=20", "solver.method=asph"])]
 
 with tempfile.TemporaryDirectory() as tmp:
     tmp = Path(tmp)
