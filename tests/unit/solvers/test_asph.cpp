@@ -49,8 +49,14 @@ struct Particles {
     std::vector<std::optional<materials::Strength>> strength(1);
     if (solid) strength[0] = materials::Strength{materials::Elastic{1.0e8}};
     solver = solvers::makeSolver<2>({cfg, {materials::LinearEos{1.0e9}}, strength}, store, f);
-    neighbors::buildNeighborList<2>(store[f.x], store[f.h], store.localCount(), solver->support(),
-                                    grid, nl);
+    // Each through its own search: spheres for SPH, the ellipses |H x| < support for ASPH.
+    if (f.anisotropic())
+      neighbors::buildNeighborList<2>(store[f.x], store[f.h],
+                                      std::span<const Tensor<2>>(store[f.H]), store.localCount(),
+                                      solver->support(), grid, nl);
+    else
+      neighbors::buildNeighborList<2>(store[f.x], store[f.h], store.localCount(), solver->support(),
+                                      grid, nl);
     solver->equationOfState();
     solver->computeRates(nl);
   }
