@@ -22,7 +22,8 @@ void checkDecomposition(const Tensor<2>& M, const char* what) {
   EXPECT_LE(e.values[0], e.values[1]) << what;
   for (int k = 0; k < 2; ++k) {
     const Vec<2> v = e.vectors.col(k);
-    EXPECT_LT((M * v - e.values[k] * v).cwiseAbs().maxCoeff(), 1e-14 * norm) << what << " column " << k;
+    EXPECT_LT((M * v - e.values[k] * v).cwiseAbs().maxCoeff(), 1e-14 * norm)
+        << what << " column " << k;
   }
   EXPECT_LT((e.vectors.transpose() * e.vectors - Tensor<2>::Identity()).norm(), 1e-14) << what;
   // A 2x2 Eigen solver in direct mode is a reference that does not share our formula.
