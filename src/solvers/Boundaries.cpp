@@ -53,9 +53,8 @@ template <int Dim> void Boundaries<Dim>::buildGhosts(ParticleStore& s, double re
         S[g] = mirrored(S[g], w);
       }
       if (f_.anisotropic()) { // the mirror image of the smoothing ellipsoid
-        const Tensor<Dim> P = Tensor<Dim>::Identity() - 2.0 * w.normal * w.normal.transpose();
         auto H = s[f_.H];
-        H[g] = P * H[g] * P;
+        H[g] = mirrored(H[g], w);
       }
       source_.push_back(static_cast<std::uint32_t>(i));
       wallOf_.push_back(static_cast<std::uint32_t>(k));
@@ -89,13 +88,6 @@ void Boundaries<Dim>::refreshGhosts(ParticleStore& s,
     for (std::size_t k = 0; k < source_.size(); ++k)
       T[first + k] = mirrored(T[source_[k]], walls_[wallOf_[k]]);
   }
-}
-
-// The mirror image of a stress tensor: P S P with the reflection P = I - 2 n n^T.
-template <int Dim> Tensor<3> Boundaries<Dim>::mirrored(const Tensor<3>& S, const Wall& w) {
-  Tensor<3> P = Tensor<3>::Identity();
-  P.template topLeftCorner<Dim, Dim>() -= 2.0 * w.normal * w.normal.transpose();
-  return P * S * P;
 }
 
 template class Boundaries<1>;

@@ -11,9 +11,7 @@ namespace spall::solvers {
 namespace {
 
 template <int Dim> double ipow(double x) {
-  if constexpr (Dim == 0)
-    return 1.0;
-  else if constexpr (Dim == 1)
+  if constexpr (Dim == 1)
     return x;
   else if constexpr (Dim == 2)
     return x * x;
@@ -359,7 +357,6 @@ private:
         // mean smoothing scale along the pair (viscosity): h, or r/eta for ASPH, where r itself
         // is needed only then (the kernels work in eta).
         Vec<Dim> gradW, gradWi;
-        double hbar = 0.5 * (hi + h[j]);
         [[maybe_unused]] double hbarOverR = 0.0;
         [[maybe_unused]] double qMean; // the pair's mean normalised distance
         if constexpr (Aniso) {
@@ -414,7 +411,7 @@ private:
         double Pij = 0.0;
         if (vr < 0.0) {
           // Monaghan & Gingold (1983) viscosity (Lam et al. 2001, Eqs. 22-24).
-          if constexpr (Aniso) hbar = hbarOverR * std::sqrt(r2);
+          const double hbar = Aniso ? hbarOverR * std::sqrt(r2) : 0.5 * (hi + h[j]);
           const double mu = hbar * vr / (r2 + 0.01 * hbar * hbar);
           const double cbar = 0.5 * (ci + cs[j]), rhobar = 0.5 * (rhoi + rho[j]);
           Pij = (-alpha * cbar * mu + beta * mu * mu) / rhobar;
@@ -564,7 +561,6 @@ private:
       // The shape correction, where Psi_2 sees neighbors in every direction (a particle with
       // neighbors on one line only keeps its shape). H' = (H T^2 H)^(1/2) shares the
       // eigenvectors of H T^2 H, its eigenvalues are their square roots.
-      Vec<Dim> lambda;
       Tensor<Dim> G = Hs[i] * Hs[i];
       // (2D needs only the eigenvalues of Psi_2, see spectralMap; 3D its eigenvectors too.)
       const SymmetricEigen<Dim> psi2 =
@@ -583,7 +579,7 @@ private:
         G = Hs[i] * T2 * Hs[i];
         G = 0.5 * (G + G.transpose());
       }
-      lambda = symmetricEigenvalues<Dim>(G).cwiseMax(0.0).cwiseSqrt();
+      Vec<Dim> lambda = symmetricEigenvalues<Dim>(G).cwiseMax(0.0).cwiseSqrt();
       // The axes from a physical-frame moment, sum_j W^H(eta_j)^2 x^_j x^_j / r_j^2 (Eq. 5 with
       // the physical distance in place of eta, so that closer neighbors always weigh more): it
       // keeps the symmetry of the node distribution, which the eta-frame correction alone can
@@ -674,28 +670,27 @@ private:
 
 } // namespace
 
+namespace {
+template <int Dim, bool Aniso>
+std::unique_ptr<Solver<Dim>> makeSph(const SolverSetup& setup, ParticleStore& store,
+                                     const SphFields<Dim>& f) {
+  switch (setup.config.kernel) {
+  case KernelType::CubicSpline:
+    return std::make_unique<Sph<Dim, kernels::CubicSpline<Dim>, Aniso>>(setup, store, f);
+  case KernelType::WendlandC2:
+    return std::make_unique<Sph<Dim, kernels::WendlandC2<Dim>, Aniso>>(setup, store, f);
+  case KernelType::WendlandC4:
+    return std::make_unique<Sph<Dim, kernels::WendlandC4<Dim>, Aniso>>(setup, store, f);
+  }
+  return nullptr;
+}
+} // namespace
+
 template <int Dim>
 std::unique_ptr<Solver<Dim>> makeSolver(const SolverSetup& setup, ParticleStore& store,
                                         const SphFields<Dim>& f) {
-  if (f.anisotropic()) {
-    switch (setup.config.kernel) {
-    case KernelType::CubicSpline:
-      return std::make_unique<Sph<Dim, kernels::CubicSpline<Dim>, true>>(setup, store, f);
-    case KernelType::WendlandC2:
-      return std::make_unique<Sph<Dim, kernels::WendlandC2<Dim>, true>>(setup, store, f);
-    case KernelType::WendlandC4:
-      return std::make_unique<Sph<Dim, kernels::WendlandC4<Dim>, true>>(setup, store, f);
-    }
-  }
-  switch (setup.config.kernel) {
-  case KernelType::CubicSpline:
-    return std::make_unique<Sph<Dim, kernels::CubicSpline<Dim>, false>>(setup, store, f);
-  case KernelType::WendlandC2:
-    return std::make_unique<Sph<Dim, kernels::WendlandC2<Dim>, false>>(setup, store, f);
-  case KernelType::WendlandC4:
-    return std::make_unique<Sph<Dim, kernels::WendlandC4<Dim>, false>>(setup, store, f);
-  }
-  return nullptr;
+  return f.anisotropic() ? makeSph<Dim, true>(setup, store, f)
+                         : makeSph<Dim, false>(setup, store, f);
 }
 
 template std::unique_ptr<Solver<1>> makeSolver<1>(const SolverSetup&, ParticleStore&,

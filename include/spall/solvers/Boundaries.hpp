@@ -37,7 +37,12 @@ private:
     int axis;
     double min, max;
   };
-  static Tensor<3> mirrored(const Tensor<3>& S, const Wall& w);
+  // The mirror image P T P of a tensor (Dim x Dim, or embedded in 3x3), P = I - 2 n n^T.
+  template <int N> static Tensor<N> mirrored(const Tensor<N>& T, const Wall& w) {
+    Tensor<N> P = Tensor<N>::Identity();
+    P.template topLeftCorner<Dim, Dim>() -= 2.0 * w.normal * w.normal.transpose();
+    return P * T * P;
+  }
   std::vector<Wall> walls_;
   std::vector<Periodic> periodic_;
   std::size_t first_ = 0;             // first wall ghost

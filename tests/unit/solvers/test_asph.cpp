@@ -1,64 +1,26 @@
 // ASPH with H = I/h is SPH (Owen 2010, Sec. II: "ASPH reduces to SPH in the limit of forcing
 // H = delta/h"): the same disordered particles, with h varying from particle to particle, give
 // the same density, rates and kernel sums through both instantiations, to round-off.
-#include "spall/solvers/SphSolver.hpp"
+#include "SolverLattice.hpp"
 
 #include <gtest/gtest.h>
-
-#include <random>
 
 using namespace spall;
 
 namespace {
 
-struct Particles {
-  ParticleStore store;
-  solvers::SphFields<2> f;
-  neighbors::CellGrid<2> grid;
-  neighbors::NeighborList nl;
-  std::unique_ptr<solvers::Solver<2>> solver;
-
-  Particles(const std::string& method, bool solid) {
-    f.registerIn(store, false, solid, false, method == "asph");
-    const int n = 16;
-    store.resizeLocal(static_cast<std::size_t>(n * n));
-    std::mt19937 rng(11);
-    std::uniform_real_distribution<double> u(-1.0, 1.0);
-    const double dp = 1.0e-3, rho0 = 1000.0;
-    for (int a = 0; a < n; ++a)
-      for (int b = 0; b < n; ++b) {
-        const std::size_t i = static_cast<std::size_t>(a * n + b);
-        store[f.id][i] = i;
-        store[f.x][i] = Vec<2>{(a + 0.5 + 0.2 * u(rng)) * dp, (b + 0.5 + 0.2 * u(rng)) * dp};
-        store[f.v][i] = Vec<2>{u(rng), u(rng)};
-        store[f.m][i] = rho0 * dp * dp;
-        store[f.rho][i] = rho0 * (1.0 + 0.01 * u(rng));
-        store[f.h][i] = 1.5 * dp * (1.0 + 0.1 * u(rng));
-        store[f.e][i] = 100.0 * (1.0 + u(rng));
-        if (solid) {
-          Tensor<3> S = Tensor<3>::Zero();
-          S(0, 0) = 1e6 * u(rng), S(1, 1) = 1e6 * u(rng), S(0, 1) = S(1, 0) = 1e6 * u(rng);
-          S(2, 2) = -S(0, 0) - S(1, 1);
-          store[f.S][i] = S;
-        }
-        if (f.anisotropic()) store[f.H][i] = Tensor<2>::Identity() / store[f.h][i];
-      }
+// The same disordered particles through SPH or ASPH.
+struct Particles : fixtures::SolverLattice {
+  Particles(const std::string& method, bool solid)
+      : SolverLattice(16, config(method, solid), solid) {
+    disorder(11);
+    evaluate();
+  }
+  static SolverConfig config(const std::string& method, bool solid) {
     SolverConfig cfg;
     cfg.method = method;
     cfg.artificial_stress.enabled = solid;
-    std::vector<std::optional<materials::Strength>> strength(1);
-    if (solid) strength[0] = materials::Strength{materials::Elastic{1.0e8}};
-    solver = solvers::makeSolver<2>({cfg, {materials::LinearEos{1.0e9}}, strength}, store, f);
-    // Each through its own search: spheres for SPH, the ellipses |H x| < support for ASPH.
-    if (f.anisotropic())
-      neighbors::buildNeighborList<2>(store[f.x], store[f.h],
-                                      std::span<const Tensor<2>>(store[f.H]), store.localCount(),
-                                      solver->support(), grid, nl);
-    else
-      neighbors::buildNeighborList<2>(store[f.x], store[f.h], store.localCount(), solver->support(),
-                                      grid, nl);
-    solver->equationOfState();
-    solver->computeRates(nl);
+    return cfg;
   }
 };
 

@@ -3,67 +3,24 @@
 // is cut off there); the linearly corrected one (Randles & Libersky 1996) is exact everywhere,
 // and so is the density rate it drives. With the correction in the momentum and energy
 // equations too, the pair terms must still conserve momentum and total energy.
-#include "spall/solvers/SphSolver.hpp"
+#include "SolverLattice.hpp"
 
 #include <gtest/gtest.h>
-
-#include <random>
 
 using namespace spall;
 
 namespace {
 
-struct Lattice {
-  ParticleStore store;
-  solvers::SphFields<2> f;
-  neighbors::CellGrid<2> grid;
-  neighbors::NeighborList nl;
-  std::unique_ptr<solvers::Solver<2>> solver;
-
-  Lattice(VelocityGradient method, const Tensor<2>& G, int n = 14, unsigned jitter = 0) {
-    const bool corrected = method == VelocityGradient::Corrected;
-    f.registerIn(store, false, true, corrected);
-    store.resizeLocal(static_cast<std::size_t>(n * n));
-    const double dp = 1.0e-3, rho0 = 1000.0;
-    for (int a = 0; a < n; ++a)
-      for (int b = 0; b < n; ++b) {
-        const std::size_t i = static_cast<std::size_t>(a * n + b);
-        Vec<2> x{(a + 0.5) * dp, (b + 0.5) * dp};
-        store[f.id][i] = i;
-        store[f.x][i] = x;
-        store[f.v][i] = G * x;
-        store[f.m][i] = rho0 * dp * dp;
-        store[f.rho][i] = rho0;
-        store[f.h][i] = 1.5 * dp;
-        store[f.cs][i] = 10.0;
-      }
-    if (jitter != 0) {
-      // A disordered state: positions, velocities, densities, energies and deviatoric stresses
-      // all varying from particle to particle.
-      std::mt19937 rng(jitter);
-      std::uniform_real_distribution<double> u(-1.0, 1.0);
-      for (std::size_t i = 0; i < store.localCount(); ++i) {
-        store[f.x][i] += 0.2 * dp * Vec<2>{u(rng), u(rng)};
-        store[f.v][i] = Vec<2>{u(rng), u(rng)};
-        store[f.rho][i] = rho0 * (1.0 + 0.01 * u(rng));
-        store[f.h][i] = 1.5 * dp * (1.0 + 0.1 * u(rng));
-        store[f.e][i] = 100.0 * (1.0 + u(rng));
-        Tensor<3> S = Tensor<3>::Zero();
-        S(0, 0) = 1e6 * u(rng), S(1, 1) = 1e6 * u(rng), S(0, 1) = S(1, 0) = 1e6 * u(rng);
-        S(2, 2) = -S(0, 0) - S(1, 1);
-        store[f.S][i] = S;
-      }
-    }
+struct Lattice : fixtures::SolverLattice {
+  Lattice(VelocityGradient method, const Tensor<2>& G, int n = 14, unsigned jitter = 0)
+      : SolverLattice(n, config(method), true, G) {
+    if (jitter != 0) disorder(jitter);
+    evaluate();
+  }
+  static SolverConfig config(VelocityGradient method) {
     SolverConfig cfg;
     cfg.velocity_gradient = method;
-    solvers::SolverSetup setup{
-        cfg, {materials::LinearEos{1.0e9}}, {materials::Strength{materials::Elastic{1.0e8}}}};
-    solver = solvers::makeSolver<2>(setup, store, f);
-    neighbors::buildNeighborList<2>(store[f.x], store[f.h], store.localCount(), solver->support(),
-                                    grid, nl);
-    solver->equationOfState();
-    if (corrected) solver->computeKernelCorrection(nl);
-    solver->computeRates(nl);
+    return cfg;
   }
   // Largest |L - G| over the particles that are (inner) or are not (surface) two supports away
   // from every edge.
