@@ -1,5 +1,6 @@
 #include "spall/app/BodyGenerator.hpp"
 
+#include "spall/core/Random.hpp"
 #include "spall/kernels/Kernels.hpp"
 
 #include <algorithm>
@@ -10,13 +11,6 @@
 namespace spall::app {
 
 namespace {
-
-std::uint64_t splitmix64(std::uint64_t z) {
-  z += 0x9e3779b97f4a7c15ull;
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
 
 template <int Dim> Vec<Dim> toVec(const std::vector<double>& a) {
   Vec<Dim> v = Vec<Dim>::Zero();
@@ -96,14 +90,9 @@ double forEachLatticeSite(bool hexagonal, double dx, double radius, F&& visit) {
 
 } // namespace
 
-double hashedUniform(std::uint64_t seed, std::uint64_t id, std::uint64_t stream) {
-  const std::uint64_t r = splitmix64(splitmix64(seed * 0x9e3779b97f4a7c15ull + stream) ^ id);
-  return 2.0 * static_cast<double>(r >> 11) * 0x1.0p-53 - 1.0;
-}
-
 template <int Dim>
 std::vector<BodySummary> generateBodies(const Deck& deck, const std::vector<materials::Eos>& eos,
-                                        ParticleStore& store, const solvers::SphFields<Dim>& f) {
+                                        ParticleStore& store, const ParticleFields<Dim>& f) {
   struct Site {
     Vec<Dim> x;
     double volume;
@@ -263,7 +252,7 @@ double cantileverModeVelocity(const CantileverVelocityConfig& c, double x) {
 }
 
 template <int Dim>
-void applyEnergySources(const Deck& deck, ParticleStore& store, const solvers::SphFields<Dim>& f) {
+void applyEnergySources(const Deck& deck, ParticleStore& store, const ParticleFields<Dim>& f) {
   const auto x = store[f.x];
   const auto m = store[f.m];
   const auto e = store[f.e];
@@ -294,9 +283,8 @@ void applyEnergySources(const Deck& deck, ParticleStore& store, const solvers::S
 
 #define SPALL_INSTANTIATE(D)                                                                       \
   template std::vector<BodySummary> generateBodies<D>(                                             \
-      const Deck&, const std::vector<materials::Eos>&, ParticleStore&,                             \
-      const solvers::SphFields<D>&);                                                               \
-  template void applyEnergySources<D>(const Deck&, ParticleStore&, const solvers::SphFields<D>&);
+      const Deck&, const std::vector<materials::Eos>&, ParticleStore&, const ParticleFields<D>&);  \
+  template void applyEnergySources<D>(const Deck&, ParticleStore&, const ParticleFields<D>&);
 SPALL_INSTANTIATE(1)
 SPALL_INSTANTIATE(2)
 SPALL_INSTANTIATE(3)

@@ -12,7 +12,7 @@ namespace {
 const char* kAxes = "xyz";
 
 template <int Dim>
-double fieldValue(const ProbeField& pf, const ParticleStore& s, const solvers::SphFields<Dim>& f,
+double fieldValue(const ProbeField& pf, const ParticleStore& s, const ParticleFields<Dim>& f,
                   std::size_t i) {
   switch (pf.kind) {
   case ProbeField::Kind::Position:
@@ -85,7 +85,7 @@ template <int Dim> Probes<Dim>::Probes(const std::vector<ProbeConfig>& config) {
 }
 
 template <int Dim>
-void Probes<Dim>::attach(const ParticleStore& s, const solvers::SphFields<Dim>& f,
+void Probes<Dim>::attach(const ParticleStore& s, const ParticleFields<Dim>& f,
                          const parallel::MpiContext& mpi) {
   const auto x = s[f.x];
   const auto id = s[f.id];
@@ -108,8 +108,7 @@ void Probes<Dim>::attach(const ParticleStore& s, const solvers::SphFields<Dim>& 
 }
 
 template <int Dim>
-std::vector<ProbeSample> Probes<Dim>::sample(const ParticleStore& s,
-                                             const solvers::SphFields<Dim>& f,
+std::vector<ProbeSample> Probes<Dim>::sample(const ParticleStore& s, const ParticleFields<Dim>& f,
                                              const parallel::MpiContext& mpi, double support) {
   std::vector<ProbeSample> out;
   const auto id = s[f.id];

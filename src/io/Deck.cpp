@@ -71,7 +71,6 @@ private:
                        std::map<std::string, SourceLocation>& seen) const;
 
   void readRun(const TableReader& r, RunConfig& run);
-  void readSolver(const TableReader& r, SolverConfig& s) const;
   void readDecomposition(const TableReader& r, DecompositionConfig& d) const;
   void readMaterial(const TableReader& r, MaterialConfig& m) const;
   void readEos(const TableReader& r, EosConfig& e) const;
@@ -99,7 +98,7 @@ void DeckReader::read(Deck& deck) {
   if (!run) throw DeckError(start, "missing required table [run]");
   readRun(reader(*run, Context{}.child("run")), deck.run);
   if (const auto* t = top.subtable("solver"))
-    readSolver(reader(*t, Context{}.child("solver")), deck.solver);
+    dd::readSolver(reader(*t, Context{}.child("solver")), deck.solver);
   if (const auto* t = top.subtable("decomposition"))
     readDecomposition(reader(*t, Context{}.child("decomposition")), deck.decomposition);
 
@@ -181,74 +180,6 @@ void DeckReader::readRun(const TableReader& r, RunConfig& run) {
     r.check(*v >= 0, "seed", ">= 0", static_cast<double>(*v));
     run.seed = static_cast<std::uint64_t>(*v);
   }
-}
-
-void DeckReader::readSolver(const TableReader& r, SolverConfig& s) const {
-  r.allowOnly(*dd::schemaKeys("solver"));
-  s.where = r.where();
-  if (const auto method = r.string("method"); method && *method == "mpm")
-    r.fail("method",
-           r.quoted("method") + ": '" + *method + "' is not available yet (available: sph, asph)");
-  s.method = r.choice("method", {"sph", "asph"}, "sph");
-
-  const std::string kernel =
-      r.choice("kernel", {"cubic_spline", "wendland_c2", "wendland_c4"}, "cubic_spline");
-  s.kernel = kernel == "wendland_c2"   ? KernelType::WendlandC2
-             : kernel == "wendland_c4" ? KernelType::WendlandC4
-                                       : KernelType::CubicSpline;
-  const std::string density =
-      r.choice("density", {"continuity", "summation", "normalized_summation"}, "continuity");
-  s.density = density == "summation"              ? DensityMethod::Summation
-              : density == "normalized_summation" ? DensityMethod::NormalizedSummation
-                                                  : DensityMethod::Continuity;
-  s.stress_form =
-      r.choice("stress_form", {"rho_squared", "rho_product"}, "rho_squared") == "rho_product"
-          ? StressForm::RhoProduct
-          : StressForm::RhoSquared;
-  if (const auto v = r.number("nodes_per_h")) {
-    r.check(*v > 0.0, "nodes_per_h", "> 0", *v);
-    s.nodes_per_h = *v;
-  }
-  if (const auto v = r.number("cfl")) {
-    r.check(*v > 0.0 && *v <= 1.0, "cfl", "in (0, 1]", *v);
-    s.cfl = *v;
-  }
-  if (const auto* t = r.subtable("artificial_viscosity")) {
-    const TableReader av = reader(*t, r.context().child("artificial_viscosity"));
-    av.allowOnly(*dd::schemaKeys("solver.artificial_viscosity"));
-    auto& c = s.artificial_viscosity;
-    c.alpha = av.number("alpha").value_or(c.alpha);
-    av.check(c.alpha >= 0.0, "alpha", ">= 0", c.alpha);
-    c.beta = av.number("beta").value_or(c.beta);
-    av.check(c.beta >= 0.0, "beta", ">= 0", c.beta);
-    c.balsara = av.boolean("balsara").value_or(c.balsara);
-  }
-  if (const auto* t = r.subtable("artificial_stress")) {
-    const TableReader as = reader(*t, r.context().child("artificial_stress"));
-    as.allowOnly(*dd::schemaKeys("solver.artificial_stress"));
-    auto& c = s.artificial_stress;
-    c.epsilon = as.number("epsilon").value_or(c.epsilon);
-    as.check(c.epsilon >= 0.0 && c.epsilon <= 1.0, "epsilon", "in [0, 1] (0: off)", c.epsilon);
-    c.enabled = c.epsilon > 0.0;
-    if (const auto n = as.integer("exponent")) {
-      as.check(*n >= 1 && *n <= 8, "exponent", "an integer in [1, 8]", static_cast<double>(*n));
-      c.exponent = static_cast<int>(*n);
-    }
-  }
-  s.velocity_gradient = r.choice("velocity_gradient", {"sph", "corrected"}, "sph") == "corrected"
-                            ? VelocityGradient::Corrected
-                            : VelocityGradient::Sph;
-  s.contact = r.choice("contact", {"welded", "frictionless"}, "welded") == "frictionless"
-                  ? Contact::Frictionless
-                  : Contact::Welded;
-  s.h_min = r.number("h_min").value_or(s.h_min);
-  r.check(s.h_min >= 0.0, "h_min", ">= 0", s.h_min);
-  s.h_max = r.number("h_max", true).value_or(s.h_max);
-  r.check(s.h_max > s.h_min, "h_max", "> h_min (" + dd::formatNumber(s.h_min) + ")", s.h_max);
-  s.h_max_ratio = r.number("h_max_ratio").value_or(s.h_max_ratio);
-  r.check(s.h_max_ratio > 0.0, "h_max_ratio", "> 0", s.h_max_ratio);
-  s.max_aspect_ratio = r.number("max_aspect_ratio").value_or(s.max_aspect_ratio);
-  r.check(s.max_aspect_ratio >= 1.0, "max_aspect_ratio", ">= 1", s.max_aspect_ratio);
 }
 
 void DeckReader::readDecomposition(const TableReader& r, DecompositionConfig& d) const {

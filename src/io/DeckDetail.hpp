@@ -2,6 +2,7 @@
 // Private to the deck reader (Deck.cpp, DeckOverrides.cpp, DeckDetail.cpp): positions of nodes,
 // typed access that reports FILE:LINE:COLUMN, the schema of known keys, did-you-mean suggestions.
 #include "spall/core/Error.hpp"
+#include "spall/solvers/Config.hpp"
 
 #include <toml++/toml.h>
 
@@ -109,5 +110,8 @@ private:
   Context context_;
   const std::string& deckPath_;
 };
+
+// The [solver] table (DeckSolver.cpp).
+void readSolver(const TableReader& r, SolverConfig& s);
 
 } // namespace spall::io::deck_detail

@@ -1,12 +1,14 @@
 #include "spall/solvers/Boundaries.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace spall::solvers {
 
 template <int Dim>
-Boundaries<Dim>::Boundaries(const std::vector<BoundaryConfig>& config, const SphFields<Dim>& f)
-    : f_(f) {
+Boundaries<Dim>::Boundaries(const std::vector<BoundaryConfig>& config, const ParticleStore& s,
+                            const ParticleFields<Dim>& f)
+    : x_(f.x) {
   for (const auto& b : config) {
     if (b.type == "rigid_wall") {
       Wall w;
@@ -20,10 +22,17 @@ Boundaries<Dim>::Boundaries(const std::vector<BoundaryConfig>& config, const Sph
       periodic_.push_back({b.axis, b.min, b.max});
     }
   }
+  for (std::size_t c : s.columnsWith(kReflectVector)) vectors_.push_back({c});
+  for (std::size_t c : s.columnsWith(kReflectTensor)) {
+    if (s.columns()[c]->info().scalarsPerParticle() == 9)
+      tensors3_.push_back({c});
+    else
+      tensors_.push_back({c});
+  }
 }
 
 template <int Dim> void Boundaries<Dim>::wrapPeriodic(ParticleStore& s) const {
-  const auto x = s[f_.x];
+  const auto x = s[x_];
   for (const auto& pb : periodic_) {
     const double L = pb.max - pb.min;
     for (std::size_t i = 0; i < s.localCount(); ++i) {
@@ -31,6 +40,20 @@ template <int Dim> void Boundaries<Dim>::wrapPeriodic(ParticleStore& s) const {
       if (xi < pb.min || xi >= pb.max) xi -= L * std::floor((xi - pb.min) / L);
     }
   }
+}
+
+template <int Dim>
+void Boundaries<Dim>::reflectVector(ParticleStore& s, Field<Vec<Dim>> field, std::size_t k) const {
+  auto v = s[field];
+  const Vec<Dim>& n = walls_[wallOf_[k]].normal;
+  v[first_ + k] -= 2.0 * v[first_ + k].dot(n) * n;
+}
+
+template <int Dim>
+template <int N>
+void Boundaries<Dim>::reflectTensor(ParticleStore& s, Field<Tensor<N>> field, std::size_t k) const {
+  auto T = s[field];
+  T[first_ + k] = mirrored(T[first_ + k], walls_[wallOf_[k]]);
 }
 
 template <int Dim> void Boundaries<Dim>::buildGhosts(ParticleStore& s, double reach) {
@@ -41,23 +64,16 @@ template <int Dim> void Boundaries<Dim>::buildGhosts(ParticleStore& s, double re
     const Wall& w = walls_[k];
     const std::size_t count = s.size(); // owned, remote ghosts and images of earlier walls
     for (std::size_t i = 0; i < count; ++i) {
-      const double d = (s[f_.x][i] - w.point).dot(w.normal);
+      const double d = (s[x_][i] - w.point).dot(w.normal);
       if (d < 0.0 || d >= reach) continue;
       const std::size_t g = s.appendGhostCopy(i);
-      auto x = s[f_.x];
-      auto v = s[f_.v];
-      x[g] -= 2.0 * d * w.normal;
-      v[g] -= 2.0 * v[g].dot(w.normal) * w.normal;
-      if (f_.hasStrength()) {
-        auto S = s[f_.S];
-        S[g] = mirrored(S[g], w);
-      }
-      if (f_.anisotropic()) { // the mirror image of the smoothing ellipsoid
-        auto H = s[f_.H];
-        H[g] = mirrored(H[g], w);
-      }
+      s[x_][g] -= 2.0 * d * w.normal;
       source_.push_back(static_cast<std::uint32_t>(i));
       wallOf_.push_back(static_cast<std::uint32_t>(k));
+      const std::size_t image = source_.size() - 1;
+      for (const auto f : vectors_) reflectVector(s, f, image);
+      for (const auto f : tensors_) reflectTensor(s, f, image);
+      for (const auto f : tensors3_) reflectTensor(s, f, image);
     }
   }
 }
@@ -69,24 +85,20 @@ template <int Dim> std::vector<parallel::PeriodicAxis> Boundaries<Dim>::periodic
 }
 
 template <int Dim>
-void Boundaries<Dim>::refreshGhosts(ParticleStore& s,
-                                    std::initializer_list<Field<Tensor<3>>> tensors) const {
-  const auto rho = s[f_.rho];
-  const auto p = s[f_.p];
-  const auto cs = s[f_.cs];
-  const std::size_t first = first_;
+void Boundaries<Dim>::refreshGhosts(ParticleStore& s, std::span<const std::size_t> columns) const {
   // In creation order, so an image of an image sees its source already refreshed.
-  for (std::size_t k = 0; k < source_.size(); ++k) {
-    const std::size_t g = first + k, i = source_[k];
-    rho[g] = rho[i];
-    p[g] = p[i];
-    cs[g] = cs[i];
-  }
-  for (const auto field : tensors) {
-    if (!field.valid()) continue;
-    const auto T = s[field];
-    for (std::size_t k = 0; k < source_.size(); ++k)
-      T[first + k] = mirrored(T[source_[k]], walls_[wallOf_[k]]);
+  const auto among = [](const auto& list, std::size_t c) {
+    return std::any_of(list.begin(), list.end(), [c](const auto f) { return f.index == c; });
+  };
+  for (const std::size_t c : columns) {
+    const bool vector = among(vectors_, c), tensor = among(tensors_, c),
+               tensor3 = among(tensors3_, c);
+    for (std::size_t k = 0; k < source_.size(); ++k) {
+      s.copyRow(c, source_[k], first_ + k);
+      if (vector) reflectVector(s, Field<Vec<Dim>>{c}, k);
+      if (tensor) reflectTensor(s, Field<Tensor<Dim>>{c}, k);
+      if (tensor3) reflectTensor(s, Field<Tensor<3>>{c}, k);
+    }
   }
 }
 

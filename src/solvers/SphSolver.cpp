@@ -1,6 +1,8 @@
 #include "spall/solvers/SphSolver.hpp"
 
 #include "spall/core/SymmetricEigen.hpp"
+#include "spall/kernels/Kernels.hpp"
+#include "spall/kernels/PsiTable.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -41,11 +43,9 @@ template <int Dim, class K, bool Aniso> class Sph final : public Solver<Dim> {
   using KW = kernels::Kernel<K, Dim>;
 
 public:
-  Sph(const SolverSetup& setup, ParticleStore& store, const SphFields<Dim>& f)
-      : cfg_(setup.config), eos_(setup.eos), strength_(setup.strength), s_(store), f_(f),
-        psi_(kernels::PsiTable::build<KW, Dim>()) {
-    strength_.resize(eos_.size());
-  }
+  Sph(const SolverSetup& setup, ParticleStore& store, const ParticleFields<Dim>& f)
+      : cfg_(setup.config), solid_(setup.solid), s_(store), f_(f),
+        psi_(kernels::PsiTable::build<KW, Dim>()) {}
 
   double support() const override { return K::support; }
   bool usesSummationDensity() const override { return cfg_.density != DensityMethod::Continuity; }
@@ -75,61 +75,6 @@ public:
         if (normalise) vol += m[j] / rhoPrev_[j] * w;
       }
       rho[i] = normalise ? sum / vol : sum * norm;
-    }
-  }
-
-  void equationOfState() override {
-    const auto rho = s_[f_.rho];
-    const auto e = s_[f_.e];
-    const auto p = s_[f_.p];
-    const auto cs = s_[f_.cs];
-    const auto mat = s_[f_.material];
-    const std::size_t n = s_.localCount();
-    // One visit per material, then a plain loop: no dispatch per particle. A solid carries
-    // shear waves too: its signal speed (time step, viscosity) is the longitudinal one,
-    // sqrt(cs^2 + 4G/(3 rho)).
-    for (std::size_t k = 0; k < eos_.size(); ++k) {
-      const double G =
-          strength_[k] ? std::visit([](const auto& m) { return m.shearModulus(); }, *strength_[k])
-                       : 0.0;
-      std::visit(
-          [&](const auto& model) {
-            for (std::size_t i = 0; i < n; ++i) {
-              if (mat[i] != static_cast<std::int32_t>(k)) continue;
-              const auto st = model.evaluate(rho[i], e[i]);
-              p[i] = st.p;
-              cs[i] = G > 0.0 ? std::sqrt(st.cs * st.cs + 4.0 * G / (3.0 * rho[i])) : st.cs;
-            }
-          },
-          eos_[k]);
-    }
-  }
-
-  void updateStrength(double dt) override {
-    if (!f_.hasStrength()) return;
-    const auto S = s_[f_.S];
-    const auto L = s_[f_.L];
-    const auto eps = s_[f_.plasticStrain];
-    const auto T = s_[f_.temperature];
-    const auto rho = s_[f_.rho];
-    const auto mat = s_[f_.material];
-    const std::size_t n = s_.localCount();
-    // One visit per material with strength, then a plain loop (materials/Strength.hpp: the same
-    // pure functions the single-element driver calls).
-    for (std::size_t k = 0; k < strength_.size(); ++k) {
-      if (!strength_[k]) continue;
-      std::visit(
-          [&](const auto& model) {
-            for (std::size_t i = 0; i < n; ++i) {
-              if (mat[i] != static_cast<std::int32_t>(k)) continue;
-              const materials::StrengthState next =
-                  model.update({S[i], eps[i], T[i]}, L[i], dt, rho[i]);
-              S[i] = next.S;
-              eps[i] = next.plasticStrain;
-              T[i] = next.temperature;
-            }
-          },
-          *strength_[k]);
     }
   }
 
@@ -174,32 +119,18 @@ public:
 
   void computeRates(const neighbors::NeighborList& nl) override {
     if (!f_.hasStrength())
-      ratesFor<Stress::Pressure>(nl);
+      ratesLoop<Stress::Pressure>(nl);
     else if (f_.B.valid())
-      ratesFor<Stress::CorrectedCauchy>(nl);
+      ratesLoop<Stress::CorrectedCauchy>(nl);
     else
-      ratesFor<Stress::Cauchy>(nl);
-  }
-  template <Stress Mode> void ratesFor(const neighbors::NeighborList& nl) {
-    const bool product = cfg_.stress_form == StressForm::RhoProduct;
-    if (cfg_.artificial_viscosity.balsara) {
-      if (product)
-        ratesLoop<true, true, Mode>(nl);
-      else
-        ratesLoop<true, false, Mode>(nl);
-    } else {
-      if (product)
-        ratesLoop<false, true, Mode>(nl);
-      else
-        ratesLoop<false, false, Mode>(nl);
-    }
+      ratesLoop<Stress::Cauchy>(nl);
   }
 
   // Owen (2010) Eqs. 2-3: s = n_h^target/n_h (at most 4) from the last loop's Psi_0, a = 0.4 (1 +
   // s^2) for s < 1 and 0.4 (1 + s^-3) otherwise; h scales by (1 - a + a s), |H| by its -nu power
   // (Eq. 4).
   double sizeFactor(std::size_t i) const {
-    const double nh = psi_.nodesPerH(root<Dim>(s_[f_.psi0][i]));
+    const double nh = psi_.nodesPerH(root<Dim>(s_[f_.sumWH][i]));
     const double sRatio = std::min(nh > 0.0 ? cfg_.nodes_per_h / nh : 4.0, 4.0);
     const double a = sRatio < 1.0 ? 0.4 * (1.0 + sRatio * sRatio)
                                   : 0.4 * (1.0 + 1.0 / (sRatio * sRatio * sRatio));
@@ -245,7 +176,7 @@ public:
   }
 
   double nodesPerH(std::size_t i) const override {
-    return psi_.nodesPerH(root<Dim>(s_[f_.psi0][i]));
+    return psi_.nodesPerH(root<Dim>(s_[f_.sumWH][i]));
   }
 
 private:
@@ -266,8 +197,9 @@ private:
   // plain form under-reads the stress divergence, and the velocity divergence that drives the
   // density, by the missing part of the support: a clamped plate bends 20% too easily with
   // 10 particles through its thickness (elastic_plate_2d); corrected, it is within a few percent.
-  template <bool Balsara, bool RhoProduct, Stress Mode>
-  void ratesLoop(const neighbors::NeighborList& nl) {
+  // The Balsara switch and the product form are per-particle factors, read once per loop (a
+  // branch every pair takes the same way), not instantiations.
+  template <Stress Mode> void ratesLoop(const neighbors::NeighborList& nl) {
     constexpr bool Solid = Mode != Stress::Pressure;
     constexpr bool Corrected = Mode == Stress::CorrectedCauchy;
     using MatD = Tensor<Dim>;
@@ -281,10 +213,12 @@ private:
     const auto acc = s_[f_.a];
     const auto dedt = s_[f_.dedt];
     const auto drhodt = s_[f_.drhodt];
-    const auto psi = s_[f_.psi0];
+    const auto sumWH = s_[f_.sumWH];
     const auto muMax = s_[f_.muMax];
-    const auto divv = Balsara ? s_[f_.divv] : std::span<double>{};
-    const auto curlv = Balsara ? s_[f_.curlv] : std::span<double>{};
+    const bool balsara = cfg_.artificial_viscosity.balsara;
+    const bool product = cfg_.stress_form == StressForm::RhoProduct;
+    const auto divv = balsara ? s_[f_.divv] : std::span<double>{};
+    const auto curlv = balsara ? s_[f_.curlv] : std::span<double>{};
     const auto Sdev = Solid ? s_[f_.S] : std::span<Tensor<3>>{};
     const auto Lgrad = Solid ? s_[f_.L] : std::span<Tensor<3>>{};
     // S_j / rho_j^2 (or S_j / rho_j for the product form) of every row, ghosts included, once:
@@ -298,13 +232,13 @@ private:
       sOverRho_.resize(s_.size());
       for (std::size_t j = 0; j < s_.size(); ++j)
         sOverRho_[j] =
-            Sdev[j].template topLeftCorner<Dim, Dim>() / (RhoProduct ? rho[j] : rho[j] * rho[j]);
+            Sdev[j].template topLeftCorner<Dim, Dim>() / (product ? rho[j] : rho[j] * rho[j]);
       if (artificialStress) {
         artificialStress_.resize(s_.size());
         // Only solids: a fluid in a multi-material deck keeps the plain pressure term.
         const auto mat = s_[f_.material];
         for (std::size_t j = 0; j < s_.size(); ++j)
-          artificialStress_[j] = strength_[static_cast<std::size_t>(mat[j])]
+          artificialStress_[j] = solid_[static_cast<std::size_t>(mat[j])]
                                      ? artificialStressOf(Sdev[j], p[j], rho[j])
                                      : Tensor<Dim>::Zero();
       }
@@ -328,16 +262,16 @@ private:
       const Vec<Dim> xi = x[i], vi = v[i];
       const double hi = h[i], hiInv = 1.0 / hi;
       const double gradNormI = sigma * ipow<Dim>(hiInv) * hiInv;
-      const double rhoi = rho[i], Pi = p[i] / (rhoi * rhoi), ci = cs[i];
+      const double rhoi = rho[i], pOverRho2I = p[i] / (rhoi * rhoi), ci = cs[i];
       const std::int32_t bodyi = body[i];
       [[maybe_unused]] const double rhoiInv = 1.0 / rhoi;
-      const double fi = Balsara ? balsaraFactor(divv[i], curlv[i], ci, hi) : 1.0;
+      const double fi = balsara ? balsaraFactor(divv[i], curlv[i], ci, hi) : 1.0;
       Vec<Dim> ai = Vec<Dim>::Zero();
-      double dei = 0.0, drhoi = 0.0, psii = 0.0, mui = 0.0, divi = 0.0;
+      double dei = 0.0, drhoi = 0.0, sumWHi = 0.0, mui = 0.0, divi = 0.0;
       [[maybe_unused]] Tensor<Dim> psi2i, psi2xi;
       if constexpr (Aniso) psi2i.setZero(), psi2xi.setZero();
       [[maybe_unused]] Eigen::Matrix<double, Dim == 3 ? 3 : 1, 1> curli;
-      if constexpr (Balsara) curli.setZero();
+      curli.setZero();
       // Solids: S_i / rho_i^2 (or S_i alone for the product form) in the Dim x Dim block, and the
       // velocity gradient L_i = -sum_j (m_j/rho_j) v_ij (x) grad_i W_ij.
       [[maybe_unused]] MatD SiOwn, Li, Ri, Bi;
@@ -382,7 +316,7 @@ private:
           // one is H_i (sum w^2 x x^T) H_i, applied once per particle. W^H = 0 outside i's
           // support, so a neighbor that only j's support reaches adds nothing (no branch).
           const double wH = sigma * std::abs(dfI);
-          psii += wH;
+          sumWHi += wH;
           // w^2 e e^T = (W^H/eta^(nu-1))^2 e^ e^T; W^H^2 x^ x^ / r^2: closer is heavier.
           const double w = wH * ipow<Dim>(etaIInv), wx = wH * r2Inv;
           const MatD xx = xij * xij.transpose();
@@ -396,7 +330,7 @@ private:
           gradW = (0.5 * (dWi + dWj) * rInv) * xij;
           gradWi = (dWi * rInv) * xij;
           qMean = 0.5 * (qi + qj);
-          if (qi < K::support) psii += KW::WH(qi);
+          if (qi < K::support) sumWHi += KW::WH(qi);
         }
         // The gradients i's and j's own quantities are contracted with (the same unless
         // corrected).
@@ -415,26 +349,26 @@ private:
           const double mu = hbar * vr / (r2 + 0.01 * hbar * hbar);
           const double cbar = 0.5 * (ci + cs[j]), rhobar = 0.5 * (rhoi + rho[j]);
           Pij = (-alpha * cbar * mu + beta * mu * mu) / rhobar;
-          if constexpr (Balsara) Pij *= 0.5 * (fi + balsaraFactor(divv[j], curlv[j], cs[j], h[j]));
+          if (balsara) Pij *= 0.5 * (fi + balsaraFactor(divv[j], curlv[j], cs[j], h[j]));
           mui = std::max(mui, -mu);
         }
         const double rhoj = rho[j];
         // Frictionless contact between bodies: across a body boundary only compression is
         // transmitted (no tension, no shear), so touching bodies can slide and separate.
         const bool across = frictionless && body[j] != bodyi;
-        double pOwn = p[i], pOther = p[j], PiPair = Pi, PjPair = rj.pOverRho2;
+        double pOwn = p[i], pOther = p[j], pOverRho2Own = pOverRho2I, pOverRho2Other = rj.pOverRho2;
         if (across) {
           pOwn = std::max(pOwn, 0.0), pOther = std::max(pOther, 0.0);
-          PiPair = pOwn / (rhoi * rhoi), PjPair = pOther / (rhoj * rhoj);
+          pOverRho2Own = pOwn / (rhoi * rhoi), pOverRho2Other = pOther / (rhoj * rhoj);
         }
         const double mj = m[j];
         if constexpr (Corrected) {
-          const double own = RhoProduct ? pOwn / (rhoi * rhoj) : PiPair;
-          const double other = RhoProduct ? pOther / (rhoi * rhoj) : PjPair;
+          const double own = product ? pOwn / (rhoi * rhoj) : pOverRho2Own;
+          const double other = product ? pOther / (rhoi * rhoj) : pOverRho2Other;
           ai.noalias() -= mj * (own * gI + other * gJ + Pij * gradW);
         } else {
           const double term =
-              (RhoProduct ? (pOwn + pOther) / (rhoi * rhoj) : PiPair + PjPair) + Pij;
+              (product ? (pOwn + pOther) / (rhoi * rhoj) : pOverRho2Own + pOverRho2Other) + Pij;
           ai.noalias() -= (mj * term) * gradW;
         }
         const double vgrad = vij.dot(gradW);
@@ -446,7 +380,7 @@ private:
             // rho^2 form: (S_i/rho_i^2 + S_j/rho_j^2) grad W; product form: the same with
             // S/rho on both sides, divided by the other density.
             const Vec<Dim> tI = SiOwn * gI, tJ = sOverRho_[j] * gJ;
-            if constexpr (RhoProduct) {
+            if (product) {
               ai.noalias() += rj.vol * tI + (mj * rhoiInv) * tJ;
               dei -= rj.vol * vij.dot(tI);
             } else {
@@ -472,7 +406,7 @@ private:
         // symmetric Eq. 21 (total energy is conserved exactly either way), but Eq. 21's even
         // split charges a cold particle for the work of a hot neighbour pushing it away, which
         // drives e negative around a point blast (Sedov: e down to -60 at 20 steps).
-        const double own = RhoProduct ? pOwn / (rhoi * rhoj) : PiPair;
+        const double own = product ? pOwn / (rhoi * rhoj) : pOverRho2Own;
         if constexpr (Corrected)
           dei += mj * (own * vij.dot(gI) + 0.5 * Pij * vgrad);
         else
@@ -484,7 +418,7 @@ private:
         } else {
           drhoi += volj * vij.dot(gradWi);
         }
-        if constexpr (Balsara) {
+        if (balsara) {
           divi -= volj * vgrad;
           if constexpr (Dim == 2) curli[0] += volj * (vij[0] * gradW[1] - vij[1] * gradW[0]);
           if constexpr (Dim == 3) curli += volj * vij.cross(gradW);
@@ -502,10 +436,10 @@ private:
       // changes fast. (The pair-averaged gradient of the momentum equation over-compresses the Noh
       // shock by ~40% here; the gather form gives the post-shock density within 8%.)
       drhodt[i] = rhoi * drhoi;
-      psi[i] = psii;
+      sumWH[i] = sumWHi;
       if constexpr (Aniso) psi2Eta_[i] = s_[f_.H][i] * psi2i * s_[f_.H][i], psi2x_[i] = psi2xi;
       muMax[i] = mui;
-      if constexpr (Balsara) {
+      if (balsara) {
         divv[i] = divi;
         curlv[i] = curli.norm();
       }
@@ -650,8 +584,7 @@ private:
   }
 
   SolverConfig cfg_;
-  std::vector<materials::Eos> eos_;
-  std::vector<std::optional<materials::Strength>> strength_;
+  std::vector<bool> solid_; // by material: has strength
   struct RowScratch {
     double hInv, gradNorm, vol, pOverRho2;
   };
@@ -659,7 +592,7 @@ private:
   std::vector<Tensor<Dim>> sOverRho_;         // scratch of the force loop (solids)
   std::vector<Tensor<Dim>> artificialStress_; // R of every row (solids, when enabled)
   ParticleStore& s_;
-  SphFields<Dim> f_;
+  ParticleFields<Dim> f_;
   kernels::PsiTable psi_;
   std::vector<double> rhoPrev_;
   std::vector<AnisoRow> anisoRow_; // scratch of the ASPH loops
@@ -673,7 +606,7 @@ private:
 namespace {
 template <int Dim, bool Aniso>
 std::unique_ptr<Solver<Dim>> makeSph(const SolverSetup& setup, ParticleStore& store,
-                                     const SphFields<Dim>& f) {
+                                     const ParticleFields<Dim>& f) {
   switch (setup.config.kernel) {
   case KernelType::CubicSpline:
     return std::make_unique<Sph<Dim, kernels::CubicSpline<Dim>, Aniso>>(setup, store, f);
@@ -688,16 +621,16 @@ std::unique_ptr<Solver<Dim>> makeSph(const SolverSetup& setup, ParticleStore& st
 
 template <int Dim>
 std::unique_ptr<Solver<Dim>> makeSolver(const SolverSetup& setup, ParticleStore& store,
-                                        const SphFields<Dim>& f) {
+                                        const ParticleFields<Dim>& f) {
   return f.anisotropic() ? makeSph<Dim, true>(setup, store, f)
                          : makeSph<Dim, false>(setup, store, f);
 }
 
 template std::unique_ptr<Solver<1>> makeSolver<1>(const SolverSetup&, ParticleStore&,
-                                                  const SphFields<1>&);
+                                                  const ParticleFields<1>&);
 template std::unique_ptr<Solver<2>> makeSolver<2>(const SolverSetup&, ParticleStore&,
-                                                  const SphFields<2>&);
+                                                  const ParticleFields<2>&);
 template std::unique_ptr<Solver<3>> makeSolver<3>(const SolverSetup&, ParticleStore&,
-                                                  const SphFields<3>&);
+                                                  const ParticleFields<3>&);
 
 } // namespace spall::solvers

@@ -3,9 +3,9 @@
 // by lattice_transform) clipped to each shape, with masses from the lattice volume, initial
 // state from the material, stable ids in deck order and jitter drawn from (seed, id), never from
 // the rank. Reports bodies with no particles and overlapping bodies as deck errors.
+#include "spall/core/ParticleFields.hpp"
 #include "spall/io/Deck.hpp"
 #include "spall/materials/Eos.hpp"
-#include "spall/solvers/SphFields.hpp"
 
 #include <vector>
 
@@ -21,17 +21,14 @@ struct BodySummary {
 // Fills the store's owned particles (all of them: the caller distributes).
 template <int Dim>
 std::vector<BodySummary> generateBodies(const Deck& deck, const std::vector<materials::Eos>& eos,
-                                        ParticleStore& store, const solvers::SphFields<Dim>& f);
+                                        ParticleStore& store, const ParticleFields<Dim>& f);
 
 // Deposits each [[energy_source]] at t = 0, kernel-weighted over the particles within its radius
 // (or into the nearest particle when the radius is zero).
 template <int Dim>
-void applyEnergySources(const Deck& deck, ParticleStore& store, const solvers::SphFields<Dim>& f);
+void applyEnergySources(const Deck& deck, ParticleStore& store, const ParticleFields<Dim>& f);
 
 // The transverse velocity at x of a body with cantilever_velocity (first bending mode).
 double cantileverModeVelocity(const CantileverVelocityConfig& c, double x);
-
-// A uniform deviate in [-1, 1) from (seed, id, stream): the same on any rank count.
-double hashedUniform(std::uint64_t seed, std::uint64_t id, std::uint64_t stream);
 
 } // namespace spall::app

@@ -24,6 +24,14 @@ enum class ScalarType { F64, U64, I32 };
 enum FieldFlag : unsigned {
   kOutput = 1u << 0,     // written to snapshots when the deck asks for it (default: all)
   kCheckpoint = 1u << 1, // part of the restartable state
+  kHalo = 1u << 2,       // read of ghosts by the neighbor search or a pair loop: sent with each
+  kRefresh = 1u << 3,    // changed by the density pass (summation, EOS) after the ghosts were
+                         // made: sent to them again before the force loop
+  // What a rigid wall's mirror image does to the field (P = I - 2 n n^T); unflagged fields are
+  // copied to the image as they are. (The type alone cannot say: in 1D a vector and a tensor
+  // are both 1x1.)
+  kReflectVector = 1u << 4, // P v
+  kReflectTensor = 1u << 5, // P T P (Dim x Dim, or embedded in 3x3)
 };
 
 struct FieldInfo {
@@ -62,6 +70,7 @@ public:
   explicit ColumnBase(FieldInfo info) : info_(std::move(info)) {}
   virtual ~ColumnBase() = default;
   const FieldInfo& info() const { return info_; }
+  void addFlags(unsigned flags) { info_.flags |= flags; }
   virtual void resize(std::size_t n) = 0;
   virtual void copy(std::size_t from, std::size_t to) = 0;
   // After the call, element i holds what element order[i] held, for i < order.size().
@@ -73,7 +82,6 @@ public:
   virtual void unpack(const std::byte* in, std::size_t first, std::size_t count) = 0;
   virtual void shrink(std::size_t n) = 0;
   virtual std::size_t bytesPerParticle() const = 0;
-  virtual std::size_t capacityBytes() const = 0;
   virtual void* raw() = 0;
   virtual const void* raw() const = 0;
 
@@ -104,7 +112,6 @@ public:
     values.shrink_to_fit();
   }
   std::size_t bytesPerParticle() const override { return sizeof(T); }
-  std::size_t capacityBytes() const override { return values.capacity() * sizeof(T); }
   void* raw() override { return values.data(); }
   const void* raw() const override { return values.data(); }
 };
@@ -165,13 +172,6 @@ public:
     for (auto& c : columns_) c->copy(source, g);
     return g;
   }
-  // Reserves room so that appending ghosts does not reallocate every time.
-  void reserve(std::size_t n) {
-    if (n > capacity_) {
-      capacity_ = n;
-      for (auto& c : columns_) c->resize(std::max(n, size_));
-    }
-  }
   // Reorders the owned particles (e.g. along a space-filling curve); ghosts are dropped.
   void permuteLocal(std::span<const std::uint32_t> order) {
     if (order.size() != local_)
@@ -219,10 +219,18 @@ public:
     for (const auto& c : columns_) b += c->bytesPerParticle();
     return b;
   }
-  std::size_t allocatedBytes() const {
-    std::size_t b = 0;
-    for (const auto& c : columns_) b += c->capacityBytes();
-    return b;
+  // Copies row `from` of one column to row `to` (wall images refreshing from their source).
+  void copyRow(std::size_t column, std::size_t from, std::size_t to) {
+    columns_[column]->copy(from, to);
+  }
+  // Adds flags to a registered field (a module that needs another module's field on ghosts).
+  void addFlags(std::size_t column, unsigned flags) { columns_[column]->addFlags(flags); }
+  // The columns carrying all of `flags`, in registration order.
+  std::vector<std::size_t> columnsWith(unsigned flags) const {
+    std::vector<std::size_t> out;
+    for (std::size_t i = 0; i < columns_.size(); ++i)
+      if ((columns_[i]->info().flags & flags) == flags) out.push_back(i);
+    return out;
   }
 
 private:

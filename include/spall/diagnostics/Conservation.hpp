@@ -1,7 +1,7 @@
 #pragma once
 // Global conserved totals: mass, momentum, kinetic and internal energy (history.csv).
+#include "spall/core/ParticleFields.hpp"
 #include "spall/parallel/Mpi.hpp"
-#include "spall/solvers/SphFields.hpp"
 
 #include <array>
 
@@ -19,7 +19,7 @@ struct Totals {
 };
 
 template <int Dim>
-Totals computeTotals(const ParticleStore& s, const solvers::SphFields<Dim>& f,
+Totals computeTotals(const ParticleStore& s, const ParticleFields<Dim>& f,
                      const parallel::MpiContext& mpi) {
   const auto m = s[f.m];
   const auto v = s[f.v];

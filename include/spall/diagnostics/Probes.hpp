@@ -2,9 +2,9 @@
 // Probes (INTERFACE.md, [[probe]]): "material" follows the particle nearest the probe position at
 // t = 0 (by id, so it survives reordering and, later, migration); "space" interpolates at a fixed
 // point with the Shepard-normalised kernel sum over the particles whose support covers it.
+#include "spall/core/ParticleFields.hpp"
 #include "spall/io/Deck.hpp"
 #include "spall/parallel/Mpi.hpp"
-#include "spall/solvers/SphFields.hpp"
 
 #include <string>
 #include <vector>
@@ -43,10 +43,10 @@ template <int Dim> class Probes {
 public:
   explicit Probes(const std::vector<ProbeConfig>& config);
   // Material probes pick their particle (global nearest, lowest id on ties).
-  void attach(const ParticleStore& s, const solvers::SphFields<Dim>& f,
+  void attach(const ParticleStore& s, const ParticleFields<Dim>& f,
               const parallel::MpiContext& mpi);
   // Values of every probe field now; identical on every rank.
-  std::vector<ProbeSample> sample(const ParticleStore& s, const solvers::SphFields<Dim>& f,
+  std::vector<ProbeSample> sample(const ParticleStore& s, const ParticleFields<Dim>& f,
                                   const parallel::MpiContext& mpi, double support);
   bool empty() const { return probes_.empty(); }
   // The particle each probe follows (0 for "space" probes), for checkpoints, and back.

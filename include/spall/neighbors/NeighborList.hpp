@@ -23,9 +23,6 @@ struct NeighborList {
   std::span<const std::uint32_t> of(std::size_t i) const {
     return {indices.data() + offsets[i], indices.data() + offsets[i + 1]};
   }
-  std::size_t bytes() const {
-    return offsets.capacity() * sizeof(std::uint64_t) + indices.capacity() * sizeof(std::uint32_t);
-  }
 };
 
 // A rank-count-independent order of particles (ids, then positions to tell a particle's periodic

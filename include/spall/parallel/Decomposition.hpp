@@ -68,10 +68,6 @@ public:
   RebalanceReport rebalance(ParticleStore& s, std::span<const std::uint64_t> offsets,
                             std::span<const std::uint32_t> pairs);
 
-  const KeyMap<Dim>& keys() const { return keys_; }
-  const KeyOwnership& ownership() const { return owner_; }
-  int ranks() const { return size_; }
-
 private:
   void newKeyBox(const ParticleStore& s);
   MigrationStats moveToOwners(ParticleStore& s);

@@ -5,29 +5,31 @@
 // images the halo exchange makes, on one rank as on many). Each wall also images the ghosts
 // before it (remote particles near the wall, periodic images, earlier walls' images), so
 // corners are covered and a wall that crosses rank domains is mirrored on every rank.
-#include "spall/io/Deck.hpp"
+// An image copies every field of its source; the fields flagged kReflectVector/kReflectTensor
+// are reflected (P v, P T P with P = I - 2 n n^T), the position across the wall plane.
+#include "spall/core/ParticleFields.hpp"
 #include "spall/parallel/HaloExchange.hpp"
-#include "spall/solvers/SphFields.hpp"
+#include "spall/solvers/Config.hpp"
 
-#include <initializer_list>
+#include <span>
 #include <vector>
 
 namespace spall::solvers {
 
 template <int Dim> class Boundaries {
 public:
-  Boundaries(const std::vector<BoundaryConfig>& config, const SphFields<Dim>& f);
+  Boundaries(const std::vector<BoundaryConfig>& config, const ParticleStore& s,
+             const ParticleFields<Dim>& f);
 
-  bool empty() const { return walls_.empty() && periodic_.empty(); }
+  bool hasWalls() const { return !walls_.empty(); }
   // Maps owned particles that left a periodic box back into it.
   void wrapPeriodic(ParticleStore& s) const;
   // Appends the mirror image of every particle (owned or ghost) within `reach` of a wall.
   void buildGhosts(ParticleStore& s, double reach);
   std::vector<parallel::PeriodicAxis> periodicAxes() const;
-  // Copies the fields that change between ghost creation and the force loop (summation density
-  // and the EOS) from each ghost's source, and the mirror image P T P of the given tensor fields
-  // (those that are registered).
-  void refreshGhosts(ParticleStore& s, std::initializer_list<Field<Tensor<3>>> tensors = {}) const;
+  // Copies the listed columns of each image from its source again (reflected where flagged),
+  // after they changed on the source (the density pass, the kernel correction).
+  void refreshGhosts(ParticleStore& s, std::span<const std::size_t> columns) const;
 
 private:
   struct Wall {
@@ -43,12 +45,20 @@ private:
     P.template topLeftCorner<Dim, Dim>() -= 2.0 * w.normal * w.normal.transpose();
     return P * T * P;
   }
+  // Reflects image k's value of a field in place.
+  void reflectVector(ParticleStore& s, Field<Vec<Dim>> field, std::size_t k) const;
+  template <int N>
+  void reflectTensor(ParticleStore& s, Field<Tensor<N>> field, std::size_t k) const;
   std::vector<Wall> walls_;
   std::vector<Periodic> periodic_;
   std::size_t first_ = 0;             // first wall ghost
   std::vector<std::uint32_t> source_; // ghost first_ + k images source_[k]
   std::vector<std::uint32_t> wallOf_; // ... across walls_[wallOf_[k]]
-  SphFields<Dim> f_;
+  Field<Vec<Dim>> x_;
+  // The reflected fields by type (the position is reflected across the plane, not listed here).
+  std::vector<Field<Vec<Dim>>> vectors_;
+  std::vector<Field<Tensor<Dim>>> tensors_;
+  std::vector<Field<Tensor<3>>> tensors3_;
 };
 
 } // namespace spall::solvers

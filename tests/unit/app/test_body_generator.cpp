@@ -1,5 +1,6 @@
 // Particle generation: lattice counts, masses against the shapes' exact volumes, ids, jitter.
 #include "spall/app/BodyGenerator.hpp"
+#include "spall/core/Random.hpp"
 
 #include <filesystem>
 #include <fstream>
@@ -22,10 +23,10 @@ Deck deckFrom(const std::string& name, int dim, const std::string& bodies) {
 
 template <int Dim> struct Generated {
   ParticleStore store;
-  solvers::SphFields<Dim> f;
+  ParticleFields<Dim> f;
   std::vector<app::BodySummary> bodies;
   explicit Generated(const Deck& deck) {
-    f.registerIn(store, false);
+    f.registerIn(store, {});
     std::vector<materials::Eos> eos{materials::IdealGas{1.4}};
     bodies = app::generateBodies<Dim>(deck, eos, store, f);
   }
@@ -110,7 +111,7 @@ jitter = 0.2
   }
   EXPECT_GT(maxShift, 0.01);      // it moved
   EXPECT_LE(maxShift, 0.2 * 0.1); // by at most jitter * spacing per axis
-  EXPECT_NE(app::hashedUniform(3, 5, 0), app::hashedUniform(4, 5, 0));
+  EXPECT_NE(hashedUniform(3, 5, 0), hashedUniform(4, 5, 0));
 }
 
 // The first clamped-free mode: F(0) = F'(0) = 0 at the clamp, F''(L) = F'''(L) = 0 at the free end

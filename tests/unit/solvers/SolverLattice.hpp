@@ -3,6 +3,7 @@
 // water-like density, h = 1.5 spacings), optionally disordered, and a solver evaluated on it
 // (a linear EOS, an elastic solid where asked; the neighbor search the method uses, the kernel
 // correction where enabled, the rates).
+#include "spall/materials/MaterialUpdate.hpp"
 #include "spall/solvers/SphSolver.hpp"
 
 #include <memory>
@@ -13,7 +14,7 @@ namespace spall::fixtures {
 struct SolverLattice {
   static constexpr double dp = 1.0e-3, rho0 = 1000.0;
   ParticleStore store;
-  solvers::SphFields<2> f;
+  ParticleFields<2> f;
   neighbors::CellGrid<2> grid;
   neighbors::NeighborList nl;
   std::unique_ptr<solvers::Solver<2>> solver;
@@ -21,8 +22,9 @@ struct SolverLattice {
   // The lattice at rest (or moving with v = G x), with the fields the configuration needs.
   SolverLattice(int n, const SolverConfig& cfg, bool solid, const Tensor<2>& G = Tensor<2>::Zero())
       : cfg_(cfg), solid_(solid) {
-    f.registerIn(store, false, solid, solid && cfg.velocity_gradient == VelocityGradient::Corrected,
-                 cfg.method == "asph");
+    f.registerIn(store, {.strength = solid,
+                         .corrected = solid && cfg.velocity_gradient == VelocityGradient::Corrected,
+                         .asph = cfg.method == "asph"});
     store.resizeLocal(static_cast<std::size_t>(n * n));
     for (int a = 0; a < n; ++a)
       for (int b = 0; b < n; ++b) {
@@ -61,9 +63,9 @@ struct SolverLattice {
   // The solver, the neighbor list (spheres for SPH, ellipses |H x| < support for ASPH, with round
   // H = I/h), the EOS, the kernel correction where enabled, and the rates.
   void evaluate() {
-    std::vector<std::optional<materials::Strength>> strength(1);
-    if (solid_) strength[0] = materials::Strength{materials::Elastic{1.0e8}};
-    solver = solvers::makeSolver<2>({cfg_, {materials::LinearEos{1.0e9}}, strength}, store, f);
+    materials::Material water{materials::LinearEos{1.0e9}, std::nullopt};
+    if (solid_) water.strength = materials::Strength{materials::Elastic{1.0e8}};
+    solver = solvers::makeSolver<2>({cfg_, {solid_}}, store, f);
     if (f.anisotropic()) {
       for (std::size_t i = 0; i < store.localCount(); ++i)
         store[f.H][i] = Tensor<2>::Identity() / store[f.h][i];
@@ -74,7 +76,16 @@ struct SolverLattice {
       neighbors::buildNeighborList<2>(store[f.x], store[f.h], store.localCount(), solver->support(),
                                       grid, nl);
     }
-    solver->equationOfState();
+    const std::size_t n = store.localCount();
+    materials::MaterialUpdate({water}).evaluate({store[f.rho].first(n),
+                                                 store[f.e].first(n),
+                                                 store[f.material].first(n),
+                                                 store[f.p].first(n),
+                                                 store[f.cs].first(n),
+                                                 {},
+                                                 {},
+                                                 {},
+                                                 {}});
     if (solver->correctsKernel()) solver->computeKernelCorrection(nl);
     solver->computeRates(nl);
   }

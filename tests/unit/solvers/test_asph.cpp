@@ -37,8 +37,8 @@ void expectSame(bool solid) {
     EXPECT_LT((sph.store[sph.f.a][i] - asph.store[asph.f.a][i]).norm(), 1e-12 * aScale) << i;
     EXPECT_NEAR(sph.store[sph.f.dedt][i], asph.store[asph.f.dedt][i], 1e-12 * eScale) << i;
     EXPECT_NEAR(sph.store[sph.f.drhodt][i], asph.store[asph.f.drhodt][i], 1e-12 * rScale) << i;
-    EXPECT_NEAR(sph.store[sph.f.psi0][i], asph.store[asph.f.psi0][i],
-                1e-12 * sph.store[sph.f.psi0][i]);
+    EXPECT_NEAR(sph.store[sph.f.sumWH][i], asph.store[asph.f.sumWH][i],
+                1e-12 * sph.store[sph.f.sumWH][i]);
     EXPECT_NEAR(sph.solver->nodesPerH(i), asph.solver->nodesPerH(i), 1e-9);
   }
   const auto dtS = sph.solver->stableTimeStep(), dtA = asph.solver->stableTimeStep();

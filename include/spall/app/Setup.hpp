@@ -1,0 +1,27 @@
+#pragma once
+// Deck to objects: the materials, the physics modules in their fixed order, and the method's
+// configuration. The one place that reads the deck's physics tables.
+#include "spall/io/Deck.hpp"
+#include "spall/materials/MaterialUpdate.hpp"
+#include "spall/methods/Module.hpp"
+#include "spall/methods/SphMethod.hpp"
+
+#include <memory>
+#include <vector>
+
+namespace spall::app {
+
+// EOS and strength of each material, in deck order.
+std::vector<materials::Material> buildMaterials(const Deck& deck);
+
+// The physics modules a deck needs, in the order they register fields and run their hooks.
+// Throws DeckError for options that act on physics the deck does not have.
+template <int Dim>
+std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck);
+
+methods::SphSetup sphSetup(const Deck& deck);
+
+const char* kernelName(KernelType k);
+const char* densityName(DensityMethod d);
+
+} // namespace spall::app

@@ -1,0 +1,98 @@
+#pragma once
+// The particle record: typed handles to the fields of the store that every method, module,
+// diagnostic and writer may read. Each group is registered by the module that needs it (methods/
+// modules), with the flags that say where the field travels: snapshots (kOutput), checkpoints
+// (kCheckpoint), remote ghosts (kHalo, kRefresh) and wall images (kReflectVector,
+// kReflectTensor). Rates are
+// checkpointed (an exact restart needs the rates of the last step); per-step sums and scratch
+// are not. Snapshot names follow INTERFACE.md; checkpointed names are part of the file format.
+#include "spall/core/ParticleStore.hpp"
+
+namespace spall {
+
+template <int Dim> struct ParticleFields {
+  Field<ParticleId> id;
+  Field<Vec<Dim>> x, v;
+  Field<double> m, rho, e, p, cs, h;
+  Field<std::int32_t> material, body;
+  // Rates of the current and previous force evaluation (kick-drift-kick needs both).
+  Field<Vec<Dim>> a, aOld;
+  Field<double> dedt, dedtOld, drhodt, drhodtOld;
+  // Per-step sums of the neighbor loop.
+  Field<double> sumWH;       // Owen (2010) Eq. 1: sum_j W^H = Psi_0^nu (the 1/nu root not taken)
+  Field<double> muMax;       // largest viscous mu_ij, for the time step
+  Field<double> divv, curlv; // Balsara switch inputs (|curl v|); registered only when used
+  // Solids (registered only when a material has strength): the deviatoric stress (always 3x3:
+  // the out-of-plane components of plane and uniaxial strain are real), the velocity gradient of
+  // the last force evaluation (Dim x Dim, embedded in 3x3), plastic strain, temperature.
+  Field<Tensor<3>> S, L;
+  Field<double> plasticStrain, temperature;
+  // The kernel-gradient correction B_i = M_i^-T (velocity_gradient = "corrected"), recomputed
+  // by every force evaluation before the force loop, which reads it of ghosts too.
+  Field<Tensor<3>> B;
+  // ASPH (solver.method = "asph"): the smoothing tensor H (1/length, symmetric; eta = H x). h
+  // then holds the longest axis, 1/lambda_min(H): the reach of the neighbor search and the ghosts.
+  Field<Tensor<Dim>> H;
+
+  bool anisotropic() const { return H.valid(); }
+  bool hasStrength() const { return S.valid(); }
+
+  // What every particle method carries: identity, kinematics, mass, thermodynamic state, and
+  // the rates and sums of the SPH step. The neighbor search and the force loop read the first
+  // group of ghosts; the density pass changes rho, p and cs after the ghosts were made.
+  void registerCommon(ParticleStore& s) {
+    constexpr unsigned out = kOutput | kCheckpoint, ck = kCheckpoint, none = 0;
+    id = s.add<ParticleId>("id", out | kHalo);
+    x = s.add<Vec<Dim>>("position", out | kHalo);
+    v = s.add<Vec<Dim>>("velocity", out | kHalo | kReflectVector);
+    m = s.add<double>("mass", out | kHalo);
+    rho = s.add<double>("density", out | kHalo | kRefresh);
+    p = s.add<double>("pressure", out | kHalo | kRefresh);
+    e = s.add<double>("specific_internal_energy", out);
+    cs = s.add<double>("sound_speed", out | kHalo | kRefresh);
+    material = s.add<std::int32_t>("material", out | kHalo);
+    body = s.add<std::int32_t>("body", out);
+    h = s.add<double>("smoothing_length", ck | kHalo);
+    a = s.add<Vec<Dim>>("acceleration", ck);
+    aOld = s.add<Vec<Dim>>("acceleration_previous", none);
+    dedt = s.add<double>("specific_internal_energy_rate", ck);
+    dedtOld = s.add<double>("specific_internal_energy_rate_previous", none);
+    drhodt = s.add<double>("density_rate", ck);
+    drhodtOld = s.add<double>("density_rate_previous", none);
+    sumWH = s.add<double>("psi0", none);
+    muMax = s.add<double>("mu_max", none);
+  }
+  // Balsara (1995): div v and |curl v| of the last force loop, read of neighbors.
+  void registerBalsara(ParticleStore& s) {
+    divv = s.add<double>("velocity_divergence", kCheckpoint | kHalo);
+    curlv = s.add<double>("velocity_curl", kCheckpoint | kHalo);
+  }
+  void registerStrength(ParticleStore& s) {
+    S = s.add<Tensor<3>>("deviatoric_stress", kCheckpoint | kHalo | kReflectTensor);
+    L = s.add<Tensor<3>>("velocity_gradient", kCheckpoint);
+    plasticStrain = s.add<double>("plastic_strain", kOutput | kCheckpoint);
+    temperature = s.add<double>("temperature", kOutput | kCheckpoint);
+  }
+  // Sent to ghosts on its own, after it is computed (not with the halo).
+  void registerKernelCorrection(ParticleStore& s) {
+    B = s.add<Tensor<3>>("kernel_correction", kReflectTensor);
+  }
+  void registerSmoothingTensor(ParticleStore& s) {
+    H = s.add<Tensor<Dim>>("smoothing_tensor", kCheckpoint | kHalo | kReflectTensor);
+  }
+
+  // The groups a configuration needs, in the order the modules register them (tests and tools
+  // that build a store by hand).
+  struct Groups {
+    bool balsara = false, strength = false, corrected = false, asph = false;
+  };
+  void registerIn(ParticleStore& s, Groups g) {
+    registerCommon(s);
+    if (g.balsara) registerBalsara(s);
+    if (g.strength) registerStrength(s);
+    if (g.corrected) registerKernelCorrection(s);
+    if (g.asph) registerSmoothingTensor(s);
+  }
+};
+
+} // namespace spall

@@ -1,0 +1,62 @@
+#pragma once
+// One per-particle material update, shared by every method (SPH now; MPM and the single-element
+// driver next): (rho, e, L, dt, history) -> (p, S, cs, history). It runs the stages of a
+// material in order, in one pass: strength (the deviatoric stress over dt, from the velocity
+// gradient), then the equation of state; damage and porosity slot in as further stages. The
+// evaluation without dt advances no history: the EOS-only refresh after a density sum or a
+// correction. A solid carries shear waves too: its signal speed (time step, viscosity) is the
+// longitudinal one, sqrt(cs^2 + 4G/(3 rho)).
+#include "spall/materials/Eos.hpp"
+#include "spall/materials/Strength.hpp"
+
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace spall::materials {
+
+struct Material {
+  Eos eos;
+  std::optional<Strength> strength; // none: a fluid
+};
+
+// The thermodynamic state the EOS stage returns: pressure and signal speed.
+struct MaterialResponse {
+  double p = 0.0, cs = 0.0;
+};
+
+// The EOS stage of one particle; G is the shear modulus (0 for a fluid).
+template <class E> MaterialResponse evaluateEos(const E& eos, double G, double rho, double e) {
+  const EosState st = eos.evaluate(rho, e);
+  return {st.p, G > 0.0 ? std::sqrt(st.cs * st.cs + 4.0 * G / (3.0 * rho)) : st.cs};
+}
+
+// The per-particle fields of the owned particles a material pass reads and writes. The strength
+// fields are empty when no material has strength.
+struct MaterialFields {
+  std::span<const double> rho, e;
+  std::span<const std::int32_t> material;
+  std::span<double> p, cs;
+  std::span<const Tensor<3>> L;
+  std::span<Tensor<3>> S;
+  std::span<double> plasticStrain, temperature;
+};
+
+class MaterialUpdate {
+public:
+  explicit MaterialUpdate(std::vector<Material> materials) : materials_(std::move(materials)) {}
+
+  const std::vector<Material>& materials() const { return materials_; }
+  bool anyStrength() const;
+  // p and cs from (rho, e): no history advances.
+  void evaluate(const MaterialFields& f) const;
+  // S, plastic strain and temperature over dt from L (materials with strength), then p and cs.
+  void update(const MaterialFields& f, double dt) const;
+
+private:
+  std::vector<Material> materials_;
+};
+
+} // namespace spall::materials

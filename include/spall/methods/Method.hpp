@@ -1,0 +1,34 @@
+#pragma once
+// A particle method as the run loop sees it: one whole step, the stable time step, its
+// counters and its restartable state. The run loop (app/) keeps time, output, checkpoints and
+// signals, and knows nothing of how a method steps (SPH and ASPH now, MPM next).
+#include "spall/io/Checkpoint.hpp"
+#include "spall/methods/StepStats.hpp"
+
+#include <cstdint>
+
+namespace spall::methods {
+
+template <int Dim> class Method {
+public:
+  virtual ~Method() = default;
+  // t = 0, the particles made (on any rank): the material state functions (p, cs).
+  virtual void start() = 0;
+  // The rates of the current state: before the first step of a new run (a restart reads the
+  // checkpointed ones instead). `step` is the step count so far.
+  virtual void evaluate(std::int64_t step) = 0;
+  // Advances the state from step `step` at time `time` by dt, then checks it (RunError naming
+  // the particle and the field when a value went non-finite).
+  virtual void advance(double dt, std::int64_t step, double time) = 0;
+  // The next stable time step over all ranks (collective); RunError naming the particle when it
+  // collapsed below `floor`.
+  virtual double stableTimeStep(double floor, std::int64_t step, double time) = 0;
+  // The kernel support in units of h (probes sample within it).
+  virtual double support() const = 0;
+  virtual StepStats& stats() = 0;
+  // The method's restartable state beyond the particle fields (its modules' included).
+  virtual void save(io::CheckpointState& st) const = 0;
+  virtual void restore(const io::CheckpointState& st) = 0;
+};
+
+} // namespace spall::methods

@@ -1,0 +1,27 @@
+#pragma once
+// A physics module: what a piece of physics adds to a method besides its pair terms. It
+// registers its fields with the flags that route them (snapshots, checkpoints, halo, wall
+// images), sets them at t = 0, acts at the hooks it needs, and saves its own state. The deck
+// assembles the list once, in a fixed order (app/Setup.cpp); the method calls the hooks in list
+// order. Hooks run once per step per module, never per particle.
+#include "spall/core/ParticleFields.hpp"
+#include "spall/io/Checkpoint.hpp"
+
+namespace spall::methods {
+
+template <int Dim> class Module {
+public:
+  virtual ~Module() = default;
+  virtual const char* name() const = 0;
+  // Registers the module's fields in the store and records their handles in f.
+  virtual void registerFields(ParticleStore& s, ParticleFields<Dim>& f) = 0;
+  // A new run at t = 0, after the bodies are made: initial values of the owned particles.
+  virtual void initialise(ParticleStore& /*s*/, const ParticleFields<Dim>& /*f*/) const {}
+  // After each force evaluation, on the owned particles' rates.
+  virtual void afterRates(ParticleStore& /*s*/, const ParticleFields<Dim>& /*f*/) const {}
+  // Restartable state beyond the module's fields (checkpoint state keys are the module's own).
+  virtual void save(io::CheckpointState& /*st*/) const {}
+  virtual void restore(const io::CheckpointState& /*st*/) {}
+};
+
+} // namespace spall::methods

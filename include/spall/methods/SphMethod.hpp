@@ -1,0 +1,83 @@
+#pragma once
+// SPH and ASPH as one step list (SphMethod::advance reads top to bottom): kick-drift, material
+// update, migration, halo, wall images, neighbors, density, kernel correction, forces, module
+// hooks, kick, EOS refresh, smoothing update, checks, rebalance. The physics is in solvers/ and
+// materials/, the parallel machinery in parallel/; this file only orders them.
+#include "spall/core/ParticleFields.hpp"
+#include "spall/materials/MaterialUpdate.hpp"
+#include "spall/methods/Method.hpp"
+#include "spall/methods/Module.hpp"
+#include "spall/neighbors/NeighborList.hpp"
+#include "spall/parallel/Decomposition.hpp"
+#include "spall/parallel/HaloExchange.hpp"
+#include "spall/parallel/Mpi.hpp"
+#include "spall/solvers/Boundaries.hpp"
+#include "spall/solvers/SphSolver.hpp"
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace spall::methods {
+
+struct SphSetup {
+  SolverConfig solver;
+  std::vector<BoundaryConfig> boundaries;
+  bool reproducible = true;                     // neighbor sums in a rank-count-independent order
+  double imbalanceThreshold = 1.1;              // a rebalance above it is worth a note
+  std::function<void(const std::string&)> note; // a line for the run log (may be empty)
+};
+
+template <int Dim> class SphMethod final : public Method<Dim> {
+public:
+  // The store's fields are registered (by `modules`) before the method is made.
+  SphMethod(const parallel::MpiContext& mpi, SphSetup setup, materials::MaterialUpdate materials,
+            std::vector<std::unique_ptr<Module<Dim>>> modules, ParticleStore& store,
+            const ParticleFields<Dim>& f, Field<std::int32_t> cost,
+            parallel::Decomposition<Dim>& decomposition);
+
+  void start() override;
+  void evaluate(std::int64_t step) override;
+  void advance(double dt, std::int64_t step, double time) override;
+  double stableTimeStep(double floor, std::int64_t step, double time) override;
+  double support() const override { return solver_->support(); }
+  StepStats& stats() override { return stats_; }
+  void save(io::CheckpointState& st) const override;
+  void restore(const io::CheckpointState& st) override;
+
+private:
+  void kickDrift(double dt);
+  void kick(double dt);
+  void exchangeHalo();
+  void findNeighbors(std::int64_t step);
+  void densityPass();
+  void kernelCorrection();
+  void forces();
+  materials::MaterialFields materialFields();
+  void checkFinite(std::int64_t step, double time) const;
+  void balance(std::int64_t step);
+  double canonicalH() const;
+
+  const parallel::MpiContext& mpi_;
+  SphSetup setup_;
+  materials::MaterialUpdate materials_;
+  std::vector<std::unique_ptr<Module<Dim>>> modules_;
+  ParticleStore& s_;
+  ParticleFields<Dim> f_;
+  Field<std::int32_t> cost_;
+  parallel::Decomposition<Dim>& decomposition_;
+  std::unique_ptr<solvers::Solver<Dim>> solver_;
+  solvers::Boundaries<Dim> boundaries_;
+  parallel::HaloExchange<Dim> halo_;
+  // Derived from the field flags: what ghosts receive when made, and again after the density
+  // pass; the kernel correction, sent on its own.
+  std::vector<std::size_t> haloFields_, refreshFields_, correctionFields_;
+  neighbors::CellGrid<Dim> grid_;
+  neighbors::NeighborList neighbors_;
+  std::vector<double> reach_;
+  std::vector<Vec<Dim>> boxReach_; // ASPH: the supports' bounding boxes
+  StepStats stats_;
+};
+
+} // namespace spall::methods

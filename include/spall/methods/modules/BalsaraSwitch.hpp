@@ -1,0 +1,15 @@
+#pragma once
+// Balsara (1995): the artificial viscosity of a pair scaled by |div v| / (|div v| + |curl v|),
+// which damps it in shear. The force loop measures div v and curl v; the next loop reads them of
+// both particles (neighbors too: they travel with the halo).
+#include "spall/methods/Module.hpp"
+
+namespace spall::methods {
+
+template <int Dim> class BalsaraSwitch final : public Module<Dim> {
+public:
+  const char* name() const override { return "balsara_switch"; }
+  void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override { f.registerBalsara(s); }
+};
+
+} // namespace spall::methods

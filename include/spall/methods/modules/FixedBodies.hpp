@@ -1,0 +1,30 @@
+#pragma once
+// Bodies with `fixed = true` (a clamp) stay where they are: no acceleration, so the leapfrog
+// keeps their zero velocity and their position. They still carry density, stress and energy,
+// and the forces they exert on the rest are the reaction of the support.
+#include "spall/methods/Module.hpp"
+
+#include <algorithm>
+#include <vector>
+
+namespace spall::methods {
+
+template <int Dim> class FixedBodies final : public Module<Dim> {
+public:
+  explicit FixedBodies(std::vector<std::int32_t> bodies) : bodies_(std::move(bodies)) {
+    std::sort(bodies_.begin(), bodies_.end());
+  }
+  const char* name() const override { return "fixed_bodies"; }
+  void registerFields(ParticleStore& /*s*/, ParticleFields<Dim>& /*f*/) override {}
+  void afterRates(ParticleStore& s, const ParticleFields<Dim>& f) const override {
+    const auto body = s[f.body];
+    const auto a = s[f.a];
+    for (std::size_t i = 0; i < s.localCount(); ++i)
+      if (std::binary_search(bodies_.begin(), bodies_.end(), body[i])) a[i].setZero();
+  }
+
+private:
+  std::vector<std::int32_t> bodies_; // sorted body indices
+};
+
+} // namespace spall::methods

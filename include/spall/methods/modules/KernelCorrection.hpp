@@ -1,0 +1,17 @@
+#pragma once
+// velocity_gradient = "corrected" (Randles & Libersky 1996; Bonet & Lok 1999): the per-particle
+// B = M^-T that makes the kernel gradient exact for linear fields. The solver computes it every
+// evaluation; the method sends it to ghosts and wall images before the force loop.
+#include "spall/methods/Module.hpp"
+
+namespace spall::methods {
+
+template <int Dim> class KernelCorrection final : public Module<Dim> {
+public:
+  const char* name() const override { return "kernel_correction"; }
+  void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override {
+    f.registerKernelCorrection(s);
+  }
+};
+
+} // namespace spall::methods

@@ -1,0 +1,20 @@
+#pragma once
+// ASPH (solver.method = "asph", Owen 2010): a smoothing tensor H per particle. Round at t = 0,
+// H = I/h: the ideal-H update finds the shape from the neighbors.
+#include "spall/methods/Module.hpp"
+
+namespace spall::methods {
+
+template <int Dim> class SmoothingTensor final : public Module<Dim> {
+public:
+  const char* name() const override { return "smoothing_tensor"; }
+  void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override {
+    f.registerSmoothingTensor(s);
+  }
+  void initialise(ParticleStore& s, const ParticleFields<Dim>& f) const override {
+    for (std::size_t i = 0; i < s.localCount(); ++i)
+      s[f.H][i] = Tensor<Dim>::Identity() / s[f.h][i];
+  }
+};
+
+} // namespace spall::methods

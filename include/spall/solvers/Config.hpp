@@ -1,0 +1,85 @@
+#pragma once
+// What the solvers and boundaries are configured with. The deck reader (io/Deck) parses into
+// these; the solvers know nothing of TOML.
+#include "spall/core/Error.hpp"
+
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace spall {
+
+enum class KernelType { CubicSpline, WendlandC2, WendlandC4 };
+enum class DensityMethod {
+  Continuity,         // d rho/dt = sum_j m_j (v_i - v_j) . grad W_ij
+  Summation,          // rho_i = sum_j m_j W_ij   (Lam et al. 2001, Eq. 18)
+  NormalizedSummation // rho_i = sum m_j W_ij / sum (m_j/rho_j) W_ij  (Lam et al. 2001, Eq. 25)
+};
+
+// The pair term of the momentum and energy equations. Both conserve momentum and energy exactly.
+enum class StressForm {
+  RhoSquared, // sigma_i/rho_i^2 + sigma_j/rho_j^2  (Lam et al. 2001, Eqs. 20-21)
+  RhoProduct  // (sigma_i + sigma_j)/(rho_i rho_j): stable at interfaces of very unequal density
+};
+
+struct ArtificialViscosityConfig {
+  double alpha = 1.0;
+  double beta = 2.0;
+  bool balsara = false;
+};
+
+// Monaghan's artificial stress against the tensile instability (Gray, Monaghan & Swift 2001):
+// R = -epsilon sigma'/rho^2 on the tensile principal stresses, weighted by f_ij^exponent with
+// f_ij = W(r_ij)/W(dp) in the pair term.
+struct ArtificialStressConfig {
+  bool enabled = false;
+  double epsilon = 0.3;
+  int exponent = 4;
+};
+
+// The kernel gradient of the solid path: the velocity gradient, the density rate and each
+// particle's own stress in the momentum and energy equations.
+enum class VelocityGradient {
+  Sph,      // grad_i W_ij; L_i = -sum_j (m_j/rho_j) v_ij (x) grad_i W_ij
+  Corrected // B_i grad_i W_ij with B_i = M_i^-T, M_i = -sum_j (m_j/rho_j) x_ij (x) grad_i W_ij:
+            // exact for linear fields, at free surfaces too (Randles & Libersky 1996; Bonet & Lok
+            // 1999)
+};
+
+// How particles of different bodies interact.
+enum class Contact {
+  Welded,      // like one continuum: bodies touching under tension stick
+  Frictionless // only compression across a body boundary: bodies slide and separate freely
+};
+
+struct SolverConfig {
+  std::string method = "sph"; // "sph" | "asph" (later "mpm")
+  KernelType kernel = KernelType::CubicSpline;
+  double nodes_per_h = 1.5; // n_h target (Owen 2010, Sec. II-A)
+  double cfl = 0.25;
+  DensityMethod density = DensityMethod::Continuity;
+  StressForm stress_form = StressForm::RhoSquared;
+  ArtificialViscosityConfig artificial_viscosity;
+  ArtificialStressConfig artificial_stress;
+  VelocityGradient velocity_gradient = VelocityGradient::Sph;
+  Contact contact = Contact::Welded;
+  // Limits on the smoothing scale: absolute bounds [h_min, h_max] in m (0 / inf: none), and a
+  // bound relative to the particle's own volume: h <= h_max_ratio * n_h * (m/rho)^(1/dim), which
+  // stops h from growing without end at free surfaces, where the neighbor count is one-sided.
+  double h_min = 0.0;
+  double h_max = std::numeric_limits<double>::infinity();
+  double h_max_ratio = 2.0;
+  // ASPH: the longest axis of the smoothing ellipsoid is at most this many times the shortest.
+  double max_aspect_ratio = 10.0;
+  SourceLocation where;
+};
+
+struct BoundaryConfig {
+  std::string type;                  // "rigid_wall" | "periodic"
+  std::vector<double> point, normal; // rigid_wall (normal points into the material)
+  int axis = 0;                      // periodic: 0 = x, 1 = y, 2 = z
+  double min = 0.0, max = 0.0;       // periodic
+  SourceLocation where;
+};
+
+} // namespace spall

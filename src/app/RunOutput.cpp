@@ -1,0 +1,235 @@
+#include "Simulation.hpp"
+
+#include "spall/app/Setup.hpp"
+#include "spall/app/SystemInfo.hpp"
+#include "spall/io/Snapshot.hpp"
+#include "spall/io/Xdmf.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <fmt/format.h>
+#include <fstream>
+
+// What a run writes as it goes: snapshots, history.csv, probes.csv, the banner.
+namespace spall::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct HistoryRow {
+  std::int64_t step = 0;
+  double time = 0.0, dt = 0.0;
+  std::uint64_t particles = 0;
+  diagnostics::Totals totals;
+  double wall = 0.0, imbalance = 1.0;
+  std::uint64_t ghosts = 0, migrated = 0;
+};
+
+// The columns of history.csv, in order: the header and every row read this one list.
+std::vector<std::pair<const char*, std::string>> historyColumns(const HistoryRow& r) {
+  const auto g = [](double v) { return fmt::format("{:.17g}", v); };
+  const auto& t = r.totals;
+  return {{"step", fmt::format("{}", r.step)},
+          {"time", g(r.time)},
+          {"dt", g(r.dt)},
+          {"particles", fmt::format("{}", r.particles)},
+          {"mass", g(t.mass)},
+          {"momentum_x", g(t.momentum[0])},
+          {"momentum_y", g(t.momentum[1])},
+          {"momentum_z", g(t.momentum[2])},
+          {"kinetic_energy", g(t.kinetic)},
+          {"internal_energy", g(t.internal)},
+          {"total_energy", g(t.total())},
+          {"wall_seconds", fmt::format("{:.3f}", r.wall)},
+          {"imbalance", fmt::format("{:.4f}", r.imbalance)},
+          {"ghosts", fmt::format("{}", r.ghosts)},
+          {"migrated", fmt::format("{}", r.migrated)}};
+}
+
+} // namespace
+
+// Creates the output directory's files, or continues them after a restart (whatever a crashed
+// run wrote after its checkpoint goes).
+template <int Dim> void Simulation<Dim>::openLogs(const fs::path& dir, bool resumed, RunLog& log) {
+  if (resumed) {
+    // A chain restarted from a checkpoint in another directory lacks the earlier snapshots
+    // here: series.xmf lists only what this directory holds.
+    std::vector<char> keep(series_.size(), 1);
+    if (mpi_.root())
+      for (std::size_t k = 0; k < series_.size(); ++k)
+        keep[k] = fs::exists(dir / "snapshots" / series_[k].second) ? 1 : 0;
+    MPI_Bcast(keep.data(), static_cast<int>(keep.size()), MPI_CHAR, 0, mpi_.comm());
+    std::size_t kept = 0;
+    for (std::size_t k = 0; k < series_.size(); ++k)
+      if (keep[k]) series_[kept++] = series_[k];
+    if (kept < series_.size())
+      log.note(fmt::format("{} earlier snapshot{} of this chain are not in {}: series.xmf "
+                           "lists the ones that are",
+                           series_.size() - kept, series_.size() - kept > 1 ? "s" : "",
+                           (dir / "snapshots").string()));
+    series_.resize(kept);
+  }
+  if (mpi_.root()) {
+    fs::create_directories(dir / "snapshots");
+    fs::create_directories(dir / "checkpoints");
+    std::ofstream(dir / "deck.toml") << deck_.resolved_toml;
+    std::string historyHeader;
+    for (const auto& [name, value] : historyColumns({}))
+      historyHeader += (historyHeader.empty() ? "" : ",") + std::string(name);
+    if (resumed) {
+      // Whatever a crashed run wrote after its checkpoint goes; the rest continues.
+      truncateHistory(dir / "history.csv", step_);
+      truncateProbes(dir / "probes.csv", time_);
+      removeSnapshotsFrom(dir / "snapshots", snapshotIndex_);
+      io::writeSeriesXdmf((dir / "snapshots" / "series.xmf").string(), series_);
+      removeStaleTemporaries(dir / "checkpoints");
+      history_ = io::CsvLog::append((dir / "history.csv").string(), historyHeader);
+      if (!probes_->empty())
+        probesCsv_ = io::CsvLog::append((dir / "probes.csv").string(), "time,probe,field,value");
+    } else {
+      history_ = io::CsvLog((dir / "history.csv").string(), historyHeader);
+      if (!probes_->empty())
+        probesCsv_ = io::CsvLog((dir / "probes.csv").string(), "time,probe,field,value");
+    }
+  }
+  MPI_Barrier(mpi_.comm());
+}
+
+// ---- output ---------------------------------------------------------------------------------
+template <int Dim> void Simulation<Dim>::resolveOutputFields() {
+  std::vector<std::string> available;
+  for (const auto& c : store_.columns())
+    if (c->info().flags & kOutput) available.push_back(c->info().name);
+  available.push_back("smoothing");
+  available.push_back("stress");
+  if (deck_.output.fields.empty()) {
+    outputFields_ = available;
+    return;
+  }
+  for (const auto& name : deck_.output.fields) {
+    if (std::find(available.begin(), available.end(), name) == available.end()) {
+      std::string list;
+      for (const auto& a : available) list += (list.empty() ? "" : ", ") + a;
+      throw DeckError(deck_.output.where,
+                      fmt::format("output field '{}' does not exist (available: {})", name, list));
+    }
+  }
+  outputFields_ = deck_.output.fields;
+  // Ids and positions are always written: without them a snapshot cannot be read.
+  for (const char* must : {"position", "id"})
+    if (std::find(outputFields_.begin(), outputFields_.end(), must) == outputFields_.end())
+      outputFields_.insert(outputFields_.begin(), must);
+}
+
+template <int Dim> bool Simulation<Dim>::snapshotDue() const {
+  if (deck_.output.every_steps > 0 && step_ % deck_.output.every_steps == 0) return true;
+  return deck_.output.every > 0.0 && time_ >= nextSnapshotTime_ * (1.0 - 1e-12);
+}
+
+template <int Dim> void Simulation<Dim>::writeSnapshot() {
+  method_->stats().phases.time(methods::kOutput, [&] {
+    const std::size_t n = store_.localCount();
+    std::vector<io::SnapshotField> fields;
+    std::vector<FieldInfo> infos;
+    for (const auto& name : outputFields_) {
+      const FieldInfo tensor{name, ScalarType::F64, {Dim, Dim}, kOutput};
+      if (name == "smoothing") {
+        // H = I/h for SPH, the full tensor for ASPH (INTERFACE.md: the H tensor).
+        const auto h = store_[f_.h];
+        const auto Hs = f_.anisotropic() ? store_[f_.H] : std::span<const Tensor<Dim>>{};
+        // The rows buffer has no alignment guarantee for fixed-size Eigen types: write doubles.
+        fields.push_back({tensor, nullptr, [h, Hs, n](void* rows) {
+                            auto* out = static_cast<double*>(rows);
+                            for (std::size_t i = 0; i < n; ++i) {
+                              const Tensor<Dim> H =
+                                  Hs.empty() ? (Tensor<Dim>::Identity() / h[i]).eval() : Hs[i];
+                              std::memcpy(out + i * Dim * Dim, H.data(), sizeof(H));
+                            }
+                          }});
+      } else if (name == "stress") {
+        // Full Cauchy stress -p I + S (the Dim x Dim block); S = 0 on the hydro path.
+        const auto p = store_[f_.p];
+        const auto S = f_.hasStrength() ? store_[f_.S] : std::span<const Tensor<3>>{};
+        fields.push_back({tensor, nullptr, [p, S, n](void* rows) {
+                            auto* sigma = static_cast<Tensor<Dim>*>(rows);
+                            for (std::size_t i = 0; i < n; ++i) {
+                              sigma[i] = -p[i] * Tensor<Dim>::Identity();
+                              if (!S.empty()) sigma[i] += S[i].template topLeftCorner<Dim, Dim>();
+                            }
+                          }});
+      } else {
+        const ColumnBase* c = store_.find(name);
+        fields.push_back({c->info(), c->raw()});
+      }
+      infos.push_back(fields.back().info);
+    }
+    const std::string base = fmt::format("snap_{:06d}", snapshotIndex_);
+    const fs::path snapDir = dir_ / "snapshots";
+    io::writeSnapshot(mpi_.comm(), (snapDir / (base + ".h5")).string(),
+                      {time_, step_, Dim, BuildInfo::version()}, n, fields);
+    const std::uint64_t global = mpi_.sum(static_cast<std::uint64_t>(n));
+    if (mpi_.root()) {
+      io::writeSnapshotXdmf((snapDir / (base + ".xmf")).string(), base + ".h5", time_, global, Dim,
+                            infos);
+    }
+    // Kept on every rank alike: it is part of the checkpointed state.
+    series_.emplace_back(time_, base + ".xmf");
+    if (mpi_.root()) io::writeSeriesXdmf((snapDir / "series.xmf").string(), series_);
+    ++snapshotIndex_;
+    lastSnapshotStep_ = step_;
+    if (deck_.output.every > 0.0)
+      while (nextSnapshotTime_ <= time_ * (1.0 + 1e-12)) nextSnapshotTime_ += deck_.output.every;
+  });
+}
+
+template <int Dim>
+void Simulation<Dim>::record(double dt, std::int64_t step, Clock::time_point wall0) {
+  method_->stats().phases.time(methods::kOutput, [&] {
+    if (step % deck_.output.history_every_steps != 0 && time_ < deck_.run.end_time) return;
+    const auto t = diagnostics::computeTotals(store_, f_, mpi_);
+    last_ = t;
+    const auto& stats = method_->stats();
+    HistoryRow row{step, time_, dt, mpi_.sum(static_cast<std::uint64_t>(store_.localCount())), t,
+                   // Wall seconds of the whole chain, so a restarted run's history reads on.
+                   wallOffset_ + std::chrono::duration<double>(Clock::now() - wall0).count(),
+                   stats.imbalance, mpi_.sum(static_cast<std::uint64_t>(stats.ghosts)),
+                   stats.migrated};
+    if (history_.open()) {
+      std::string line;
+      for (const auto& [name, value] : historyColumns(row))
+        line += (line.empty() ? "" : ",") + value;
+      history_.row(line);
+    }
+    if (!probes_->empty()) {
+      const auto samples = probes_->sample(store_, f_, mpi_, method_->support());
+      if (probesCsv_.open())
+        for (const auto& s : samples)
+          probesCsv_.row(fmt::format("{:.17g},{},{},{:.17g}", time_, s.probe, s.field, s.value));
+    }
+  });
+}
+
+template <int Dim> void Simulation<Dim>::banner(RunLog& log, const fs::path& dir) {
+  std::vector<std::string> lines;
+  lines.push_back(fmt::format("spall {} (git {}): {}", BuildInfo::version(),
+                              BuildInfo::gitRevision(),
+                              deck_.run.title.empty() ? deck_.path : deck_.run.title));
+  lines.push_back(fmt::format("deck {} | {}D | {} {} n_h {:g} | density {} | {} rank{}", deck_.path,
+                              Dim, deck_.solver.method, kernelName(deck_.solver.kernel),
+                              deck_.solver.nodes_per_h, densityName(deck_.solver.density),
+                              mpi_.size(), mpi_.size() > 1 ? "s" : ""));
+  for (const auto& b : bodies_)
+    lines.push_back(fmt::format("  body {:<16} {:>10} particles  mass {:.6g} kg  spacing {:.4g} m",
+                                b.name, b.particles, b.mass, b.spacing));
+  lines.push_back(fmt::format("particles {} | memory ~{:.1f} MB | end time {:.6g} s | output {}",
+                              particles(), memoryEstimate() / 1048576.0, deck_.run.end_time,
+                              dir.string()));
+  log.banner(lines);
+}
+
+template class Simulation<1>;
+template class Simulation<2>;
+template class Simulation<3>;
+
+} // namespace spall::app

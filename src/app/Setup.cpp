@@ -1,0 +1,123 @@
+#include "spall/app/Setup.hpp"
+
+#include "spall/methods/modules/BalsaraSwitch.hpp"
+#include "spall/methods/modules/FixedBodies.hpp"
+#include "spall/methods/modules/FrictionlessContact.hpp"
+#include "spall/methods/modules/Hydro.hpp"
+#include "spall/methods/modules/KernelCorrection.hpp"
+#include "spall/methods/modules/SmoothingTensor.hpp"
+#include "spall/methods/modules/Strength.hpp"
+
+#include <algorithm>
+
+namespace spall::app {
+
+namespace {
+
+materials::Eos buildEos(const MaterialConfig& m) {
+  const auto& c = m.eos;
+  if (c.type == "ideal_gas") return materials::IdealGas{c.gamma};
+  if (c.type == "linear") return materials::LinearEos{m.density, c.bulk_modulus};
+  if (c.type == "mie_gruneisen") return materials::MieGruneisen{m.density, c.c0, c.s, c.gamma0};
+  return materials::Tillotson{m.density, c.a, c.b, c.A, c.B, c.alpha, c.beta, c.e0, c.e_iv, c.e_cv};
+}
+
+std::optional<materials::Strength> buildStrength(const StrengthConfig& c) {
+  if (c.type == "elastic") return materials::Elastic{c.shear_modulus};
+  if (c.type == "von_mises") return materials::VonMises{c.shear_modulus, c.yield_stress};
+  if (c.type == "johnson_cook")
+    return materials::JohnsonCook{c.shear_modulus,
+                                  c.A,
+                                  c.B,
+                                  c.n,
+                                  c.C,
+                                  c.m,
+                                  c.reference_strain_rate,
+                                  c.room_temperature,
+                                  c.melt_temperature,
+                                  c.specific_heat,
+                                  c.taylor_quinney};
+  return std::nullopt;
+}
+
+} // namespace
+
+std::vector<materials::Material> buildMaterials(const Deck& deck) {
+  std::vector<materials::Material> out;
+  for (const auto& m : deck.materials) out.push_back({buildEos(m), buildStrength(m.strength)});
+  return out;
+}
+
+template <int Dim>
+std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck) {
+  const auto& solver = deck.solver;
+  const bool solids = std::any_of(deck.materials.begin(), deck.materials.end(),
+                                  [](const auto& m) { return m.strength.type != "none"; });
+  if (!solids &&
+      (solver.artificial_stress.enabled || solver.velocity_gradient != VelocityGradient::Sph))
+    throw DeckError(solver.where,
+                    "solver.artificial_stress and solver.velocity_gradient act on the stress of "
+                    "materials with strength, and no material in this deck has one");
+  std::vector<std::int32_t> fixed;
+  for (std::size_t b = 0; b < deck.bodies.size(); ++b)
+    if (deck.bodies[b].fixed) fixed.push_back(static_cast<std::int32_t>(b));
+  // Johnson-Cook is the only model that tracks temperature: its materials start at their room
+  // temperature, the others at 0.
+  std::vector<double> roomTemperature;
+  for (const auto& m : deck.materials)
+    roomTemperature.push_back(m.strength.type == "johnson_cook" ? m.strength.room_temperature
+                                                                : 0.0);
+
+  // The list: one line a module, in this order (the order their fields are registered in).
+  std::vector<std::unique_ptr<methods::Module<Dim>>> list;
+  list.push_back(std::make_unique<methods::Hydro<Dim>>());
+  if (solver.artificial_viscosity.balsara)
+    list.push_back(std::make_unique<methods::BalsaraSwitch<Dim>>());
+  if (solids) list.push_back(std::make_unique<methods::Strength<Dim>>(roomTemperature));
+  if (solids && solver.velocity_gradient == VelocityGradient::Corrected)
+    list.push_back(std::make_unique<methods::KernelCorrection<Dim>>());
+  if (solver.method == "asph") list.push_back(std::make_unique<methods::SmoothingTensor<Dim>>());
+  if (solver.contact == Contact::Frictionless)
+    list.push_back(std::make_unique<methods::FrictionlessContact<Dim>>());
+  if (!fixed.empty()) list.push_back(std::make_unique<methods::FixedBodies<Dim>>(fixed));
+  return list;
+}
+
+methods::SphSetup sphSetup(const Deck& deck) {
+  methods::SphSetup s;
+  s.solver = deck.solver;
+  s.boundaries = deck.boundaries;
+  s.reproducible = deck.decomposition.reproducible;
+  s.imbalanceThreshold = deck.decomposition.imbalance_threshold;
+  return s;
+}
+
+const char* kernelName(KernelType k) {
+  switch (k) {
+  case KernelType::CubicSpline:
+    return "cubic_spline";
+  case KernelType::WendlandC2:
+    return "wendland_c2";
+  case KernelType::WendlandC4:
+    return "wendland_c4";
+  }
+  return "?";
+}
+
+const char* densityName(DensityMethod d) {
+  switch (d) {
+  case DensityMethod::Continuity:
+    return "continuity";
+  case DensityMethod::Summation:
+    return "summation";
+  case DensityMethod::NormalizedSummation:
+    return "normalized_summation";
+  }
+  return "?";
+}
+
+template std::vector<std::unique_ptr<methods::Module<1>>> buildModules<1>(const Deck&);
+template std::vector<std::unique_ptr<methods::Module<2>>> buildModules<2>(const Deck&);
+template std::vector<std::unique_ptr<methods::Module<3>>> buildModules<3>(const Deck&);
+
+} // namespace spall::app

@@ -1,0 +1,252 @@
+#include "Simulation.hpp"
+
+#include "spall/app/Setup.hpp"
+#include "spall/app/SystemInfo.hpp"
+
+#include <cmath>
+#include <fmt/format.h>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+// Set-up, a new run, a restart, and the run's state in a checkpoint.
+namespace spall::app {
+
+namespace fs = std::filesystem;
+
+template <int Dim>
+Simulation<Dim>::Simulation(const Deck& deck, const parallel::MpiContext& mpi)
+    : deck_(deck), mpi_(mpi) {
+  for (const auto& b : deck.bodies) {
+    if (b.insert_time > 0.0)
+      throw DeckError(b.where, fmt::format("body '{}': insert_time arrives with the penetration "
+                                           "work and is not available yet",
+                                           b.name));
+  }
+  baselineRss_ = residentBytes();
+  // The modules register their fields, in list order (strength fields only where a deck has a
+  // solid, and so on).
+  auto modules = buildModules<Dim>(deck);
+  for (const auto& m : modules) m->registerFields(store_, f_);
+  // Neighbors per particle from the last search: the load-balancing cost. Migrates, never
+  // written. Checkpointed: a restart on the same rank count then rebalances exactly as the run
+  // would have.
+  cost_ = store_.add<std::int32_t>("cost", kCheckpoint);
+  parallel::DecompositionConfig dc;
+  dc.curve =
+      deck.decomposition.curve == "morton" ? parallel::Curve::Morton : parallel::Curve::Hilbert;
+  dc.metis = deck.decomposition.partitioner == "metis";
+  dc.rebalanceEvery = deck.decomposition.rebalance_every;
+  dc.imbalanceThreshold = deck.decomposition.imbalance_threshold;
+  decomposition_ =
+      std::make_unique<parallel::Decomposition<Dim>>(mpi.comm(), dc, f_.id, f_.x, cost_);
+  methods::SphSetup setup = sphSetup(deck);
+  setup.note = [this](const std::string& line) {
+    if (log_) log_->note(line);
+  };
+  method_ = std::make_unique<methods::SphMethod<Dim>>(
+      mpi, std::move(setup), materials::MaterialUpdate(buildMaterials(deck)), std::move(modules),
+      store_, f_, cost_, *decomposition_);
+  probes_ = std::make_unique<diagnostics::Probes<Dim>>(deck.probes);
+  resolveOutputFields();
+}
+
+template <int Dim> void Simulation<Dim>::generate() {
+  std::vector<materials::Eos> eos;
+  for (const auto& m : buildMaterials(deck_)) eos.push_back(m.eos);
+  bodies_ = generateBodies<Dim>(deck_, eos, store_, f_);
+  applyEnergySources<Dim>(deck_, store_, f_);
+  decomposition_->distributeInitial(store_);
+  totalParticles_ = mpi_.sum(static_cast<std::uint64_t>(store_.localCount()));
+  method_->start();
+}
+
+// A continued run: the first of `candidates` that reads back completely. Throws
+// CheckpointError when none does, UsageError when the checkpoint belongs to another deck.
+template <int Dim> void Simulation<Dim>::resume(const RestartCandidates& candidates) {
+  if (candidates.files.empty())
+    throw io::CheckpointError(
+        candidates.problem.empty()
+            ? "no checkpoint to restart from"
+            : fmt::format("cannot restart: {} and there is no complete checkpoint beside it",
+                          candidates.problem));
+  if (!candidates.problem.empty())
+    deferredWarnings_.push_back(candidates.problem + "; falling back to the newest complete "
+                                                     "checkpoint");
+  std::string skipped;
+  for (std::size_t k = 0; k < candidates.files.size(); ++k) {
+    const std::string path = candidates.files[k].string();
+    try {
+      const auto t0 = Clock::now();
+      const io::CheckpointHeader header = io::readCheckpointHeader(mpi_.comm(), path);
+      if (header.dimension != Dim)
+        throw UsageError(
+            fmt::format("{} holds a {}D run; the deck is {}D", path, header.dimension, Dim));
+      const auto diffs = deckPhysicsDifferences(header.state.text("deck"), deck_.resolved_toml);
+      if (!diffs.empty()) {
+        std::string list;
+        for (std::size_t d = 0; d < diffs.size() && d < 12; ++d) list += "\n  " + diffs[d];
+        if (diffs.size() > 12) list += fmt::format("\n  ... and {} more", diffs.size() - 12);
+        throw UsageError(fmt::format(
+            "{} was written by a different deck; a restart may change only run.end_time, "
+            "run.max_steps, run.title and the [output], [checkpoint] and [decomposition] "
+            "tables:{}",
+            path, list));
+      }
+      const bool sameLayout =
+          static_cast<int>(header.rankCounts.size()) == mpi_.size() &&
+          header.state.text("decomposition_curve") == deck_.decomposition.curve &&
+          header.state.text("decomposition_partitioner") == deck_.decomposition.partitioner;
+      const std::uint64_t bytes =
+          io::readCheckpointParticles(mpi_.comm(), header, store_, sameLayout);
+      restoreState(header, sameLayout);
+      checkpointReadSeconds_ = std::chrono::duration<double>(Clock::now() - t0).count();
+      checkpointReadBytes_ = mpi_.sum(bytes);
+      resumedFrom_ = path;
+      if (!skipped.empty())
+        deferredWarnings_.push_back(fmt::format("skipped unusable checkpoints:{}", skipped));
+      return;
+    } catch (const io::CheckpointError& e) {
+      if (!candidates.fallback) throw;
+      skipped += fmt::format("\n  {}", e.what());
+      if (k + 1 == candidates.files.size())
+        throw io::CheckpointError(fmt::format(
+            "cannot restart: no complete checkpoint in {}{}{}",
+            candidates.files.front().parent_path().string(),
+            candidates.problem.empty() ? "" : " (" + candidates.problem + ")", skipped));
+    }
+  }
+}
+
+template <int Dim> std::size_t Simulation<Dim>::memoryEstimate() const {
+  const double neighbors =
+      std::pow(2.0 * 2.0 * deck_.solver.nodes_per_h, Dim) * (Dim == 3   ? std::numbers::pi / 6.0
+                                                             : Dim == 2 ? std::numbers::pi / 4.0
+                                                                        : 1.0);
+  const double perParticle =
+      1.1 * static_cast<double>(store_.bytesPerParticle()) + 4.0 * neighbors + 16.0;
+  return static_cast<std::size_t>(perParticle * static_cast<double>(particles()));
+}
+
+template <int Dim> double Simulation<Dim>::firstTimeStep() const {
+  const auto h = store_[f_.h];
+  const auto cs = store_[f_.cs];
+  const auto v = store_[f_.v];
+  double dt = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < store_.localCount(); ++i) {
+    const double signal = cs[i] + v[i].norm(); // before any force: sound and bulk speed
+    if (signal > 0.0) dt = std::min(dt, h[i] / signal);
+  }
+  return mpi_.min(deck_.solver.cfl * dt);
+}
+
+// Everything besides the particle fields that the run needs to continue exactly: identical
+// on every rank (the checkpoint writer stores rank 0's copy).
+template <int Dim>
+io::CheckpointState Simulation<Dim>::saveState(double dtNext, double wall) const {
+  io::CheckpointState st;
+  st.texts["deck"] = deck_.resolved_toml;
+  st.reals["dt"] = {dtNext};
+  st.reals["wall_seconds"] = {wall};
+  st.reals["next_snapshot_time"] = {nextSnapshotTime_};
+  const auto& t = totals0_;
+  st.reals["initial_totals"] = {
+      t.mass,     t.momentum[0],      t.momentum[1],      t.momentum[2],     t.kinetic,
+      t.internal, t.momentumScale[0], t.momentumScale[1], t.momentumScale[2]};
+  st.integers["snapshot_index"] = {snapshotIndex_};
+  st.integers["last_snapshot_step"] = {lastSnapshotStep_};
+  std::vector<double> times;
+  std::string files;
+  for (const auto& [time, file] : series_) {
+    times.push_back(time);
+    files += file + "\n";
+  }
+  st.reals["snapshot_times"] = times;
+  st.texts["snapshot_files"] = files;
+  std::vector<std::int64_t> bodyParticles;
+  std::vector<double> bodyMass, bodySpacing;
+  for (const auto& b : bodies_) {
+    bodyParticles.push_back(static_cast<std::int64_t>(b.particles));
+    bodyMass.push_back(b.mass);
+    bodySpacing.push_back(b.spacing);
+  }
+  st.integers["body_particles"] = bodyParticles;
+  st.reals["body_mass"] = bodyMass;
+  st.reals["body_spacing"] = bodySpacing;
+  st.unsignedIntegers["probe_particles"] = probes_->tracked();
+  // Random numbers are counter-based (a hash of seed, particle id and stream), so the seed is
+  // the whole random state: nothing advances while the run steps.
+  st.integers["random_seed"] = {static_cast<std::int64_t>(deck_.run.seed)};
+  const auto d = decomposition_->state();
+  st.reals["decomposition_box"] = d.box;
+  st.unsignedIntegers["decomposition_begins"] = d.begins;
+  st.integers["decomposition_owners"] = d.owners;
+  st.texts["decomposition_curve"] = deck_.decomposition.curve;
+  st.texts["decomposition_partitioner"] = deck_.decomposition.partitioner;
+  method_->save(st);
+  return st;
+}
+
+template <int Dim>
+void Simulation<Dim>::restoreState(const io::CheckpointHeader& h, bool sameLayout) {
+  const auto& st = h.state;
+  time_ = h.time;
+  step_ = h.step;
+  resumeDt_ = st.real("dt");
+  wallOffset_ = st.real("wall_seconds");
+  nextSnapshotTime_ = st.real("next_snapshot_time");
+  const auto& t = st.realArray("initial_totals");
+  if (t.size() != 9)
+    throw io::CheckpointError(h.path + ": state/initial_totals has the wrong size");
+  totals0_.mass = t[0];
+  for (int d = 0; d < 3; ++d) {
+    totals0_.momentum[static_cast<std::size_t>(d)] = t[1 + static_cast<std::size_t>(d)];
+    totals0_.momentumScale[static_cast<std::size_t>(d)] = t[6 + static_cast<std::size_t>(d)];
+  }
+  totals0_.kinetic = t[4];
+  totals0_.internal = t[5];
+  snapshotIndex_ = static_cast<int>(st.integer("snapshot_index"));
+  lastSnapshotStep_ = st.integer("last_snapshot_step");
+  const auto& times = st.realArray("snapshot_times");
+  std::istringstream files(st.text("snapshot_files"));
+  series_.clear();
+  std::string file;
+  for (double time : times) {
+    if (!std::getline(files, file))
+      throw io::CheckpointError(h.path + ": state/snapshot_files is shorter than snapshot_times");
+    series_.emplace_back(time, file);
+  }
+  const auto& bp = st.integerArray("body_particles");
+  const auto& bm = st.realArray("body_mass");
+  const auto& bs = st.realArray("body_spacing");
+  if (bp.size() != deck_.bodies.size() || bm.size() != bp.size() || bs.size() != bp.size())
+    throw io::CheckpointError(h.path + ": state/body_* do not match the deck's bodies");
+  bodies_.clear();
+  for (std::size_t b = 0; b < bp.size(); ++b)
+    bodies_.push_back({deck_.bodies[b].name, static_cast<std::size_t>(bp[b]), bm[b], bs[b]});
+  const auto& probes = st.unsignedArray("probe_particles");
+  if (probes.size() != probes_->size())
+    throw io::CheckpointError(h.path + ": state/probe_particles does not match the deck's probes");
+  probes_->restoreTracked(probes);
+  method_->restore(st);
+  checkpointRanks_ = static_cast<int>(h.rankCounts.size());
+  totalParticles_ = h.particles;
+  lastCheckpointStep_ = step_;
+  if (sameLayout) {
+    try {
+      decomposition_->restore({st.realArray("decomposition_box"),
+                               st.unsignedArray("decomposition_begins"),
+                               st.integerArray("decomposition_owners")});
+    } catch (const std::invalid_argument& e) {
+      throw io::CheckpointError(h.path + ": " + e.what());
+    }
+  } else {
+    decomposition_->distributeLoaded(store_);
+  }
+}
+
+template class Simulation<1>;
+template class Simulation<2>;
+template class Simulation<3>;
+
+} // namespace spall::app

@@ -1,0 +1,105 @@
+#pragma once
+// A run of one dimension: the particles, the method that steps them, and the run loop around
+// it (time, output, checkpoints, signals). The run loop knows nothing of how the method steps.
+// Its members are defined by job: Simulation.cpp (set-up, new run, restart, checkpoint state),
+// RunLoop.cpp (the loop, checkpoints), RunOutput.cpp (snapshots, history, probes, banner),
+// RunSummary.cpp (closing summary and summary.json).
+#include "spall/app/BodyGenerator.hpp"
+#include "spall/app/CheckpointFiles.hpp"
+#include "spall/app/Run.hpp"
+#include "spall/app/RunLog.hpp"
+#include "spall/core/ParticleFields.hpp"
+#include "spall/diagnostics/Conservation.hpp"
+#include "spall/diagnostics/Probes.hpp"
+#include "spall/io/Checkpoint.hpp"
+#include "spall/io/CsvLog.hpp"
+#include "spall/methods/Method.hpp"
+#include "spall/parallel/Decomposition.hpp"
+
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace spall::app {
+
+using Clock = std::chrono::steady_clock;
+
+template <int Dim> class Simulation {
+public:
+  Simulation(const Deck& deck, const parallel::MpiContext& mpi);
+
+  // A new run: every rank generates the same particles (ids, jitter and energy deposits
+  // therefore do not depend on the rank count), keeps a slice and hands the rest to their owners.
+  void generate();
+  // A continued run: the first of `candidates` that reads back completely. Throws
+  // CheckpointError when none does, UsageError when the checkpoint belongs to another deck.
+  void resume(const RestartCandidates& candidates);
+  void run(const RunOptions& options, const std::filesystem::path& dir);
+
+  // All ranks' owned particles.
+  std::size_t particles() const { return totalParticles_; }
+  const std::vector<BodySummary>& bodies() const { return bodies_; }
+  const std::vector<std::string>& warnings() const { return deferredWarnings_; }
+  // A rough peak estimate: stored fields, ghosts (~10%) and neighbor indices at the target n_h.
+  std::size_t memoryEstimate() const;
+  // Before any force: h over the sound and bulk speed.
+  double firstTimeStep() const;
+
+private:
+  // RunLoop.cpp
+  double nextTimeStep();
+  double clampToTargets(double dt) const;
+  void checkpoint(double dtNext, Clock::time_point wall0);
+  int checkpointKeep() const { return deck_.checkpoint ? deck_.checkpoint->keep : 2; }
+  // Simulation.cpp
+  io::CheckpointState saveState(double dtNext, double wall) const;
+  void restoreState(const io::CheckpointHeader& h, bool sameLayout);
+  // RunOutput.cpp
+  void openLogs(const std::filesystem::path& dir, bool resumed, RunLog& log);
+  void resolveOutputFields();
+  bool snapshotDue() const;
+  void writeSnapshot();
+  void record(double dt, std::int64_t step, Clock::time_point wall0);
+  void banner(RunLog& log, const std::filesystem::path& dir);
+  // RunSummary.cpp
+  void finish(RunLog& log, const RunOptions& options, Clock::time_point wall0, int stopSignal);
+
+  const Deck& deck_;
+  const parallel::MpiContext& mpi_;
+  ParticleStore store_;
+  ParticleFields<Dim> f_;
+  Field<std::int32_t> cost_; // neighbors per particle: the load-balancing cost
+  std::unique_ptr<parallel::Decomposition<Dim>> decomposition_;
+  std::unique_ptr<methods::Method<Dim>> method_;
+  std::unique_ptr<diagnostics::Probes<Dim>> probes_;
+  std::vector<BodySummary> bodies_;
+  std::size_t totalParticles_ = 0;
+  RunLog* log_ = nullptr;
+  std::vector<std::string> outputFields_;
+  std::vector<std::string> deferredWarnings_;
+  std::vector<std::pair<double, std::string>> series_;
+  io::CsvLog history_, probesCsv_;
+  std::filesystem::path dir_;
+  diagnostics::Totals totals0_, last_;
+  double time_ = 0.0;
+  double nextSnapshotTime_ = 0.0;
+  std::int64_t step_ = 0;
+  std::int64_t lastSnapshotStep_ = -1;
+  int snapshotIndex_ = 0;
+  std::size_t baselineRss_ = 0;
+  // Restart chain bookkeeping.
+  std::string resumedFrom_;    // checkpoint this run continued from ("" for a new run)
+  double resumeDt_ = 0.0;      // the time step the checkpointed run would have taken next
+  double wallOffset_ = 0.0;    // wall seconds of the chain before this job
+  std::int64_t startStep_ = 0; // first step of this job
+  std::int64_t lastCheckpointStep_ = -1;
+  Clock::time_point lastCheckpointWall_;
+  int checkpointsWritten_ = 0, checkpointRanks_ = 0;
+  std::uint64_t checkpointBytes_ = 0, checkpointWriteBytes_ = 0, checkpointReadBytes_ = 0;
+  double checkpointWriteSeconds_ = 0.0, checkpointReadSeconds_ = 0.0;
+};
+
+} // namespace spall::app

@@ -1,0 +1,320 @@
+#include "spall/methods/SphMethod.hpp"
+
+#include "spall/core/Error.hpp"
+
+#include <cmath>
+#include <fmt/format.h>
+#include <limits>
+
+namespace spall::methods {
+
+template <int Dim>
+SphMethod<Dim>::SphMethod(const parallel::MpiContext& mpi, SphSetup setup,
+                          materials::MaterialUpdate materials,
+                          std::vector<std::unique_ptr<Module<Dim>>> modules, ParticleStore& store,
+                          const ParticleFields<Dim>& f, Field<std::int32_t> cost,
+                          parallel::Decomposition<Dim>& decomposition)
+    : mpi_(mpi), setup_(std::move(setup)), materials_(std::move(materials)),
+      modules_(std::move(modules)), s_(store), f_(f), cost_(cost), decomposition_(decomposition),
+      boundaries_(setup_.boundaries, store, f), halo_(mpi.comm(), boundaries_.periodicAxes()) {
+  std::vector<bool> solid;
+  for (const auto& m : materials_.materials()) solid.push_back(m.strength.has_value());
+  solver_ = solvers::makeSolver<Dim>({setup_.solver, solid}, store, f);
+  haloFields_ = store.columnsWith(kHalo);
+  refreshFields_ = store.columnsWith(kRefresh);
+  if (f.B.valid()) correctionFields_ = {f.B.index};
+}
+
+// ---- the step ------------------------------------------------------------------------------
+// Kick-drift-kick leapfrog (Lam et al. 2001, Sec. 4.2): v_{n+1/2} = v_n + dt/2 a_n;
+// x_{n+1} = x_n + dt v_{n+1/2}; v_{n+1} = v_{n+1/2} + dt/2 a_{n+1}, with e and (continuity) rho
+// advanced the same way. The second half-kick is first taken with the old rates (the state the
+// forces see) and corrected by dt/2 (new - old) once the new rates are known.
+template <int Dim> void SphMethod<Dim>::advance(double dt, std::int64_t step, double time) {
+  stats_.phases.time(kIntegration, [&] {
+    kickDrift(dt);
+    // S_{n+1} from S_n and the last velocity gradient (explicit, like the drift), then p and cs:
+    // the force evaluation below sees the new stress and pressure.
+    materials_.update(materialFields(), dt);
+    s_.swapValues(f_.a, f_.aOld);
+    s_.swapValues(f_.dedt, f_.dedtOld);
+    s_.swapValues(f_.drhodt, f_.drhodtOld);
+    boundaries_.wrapPeriodic(s_);
+  });
+  stats_.phases.time(kExchange, [&] {
+    const auto m = decomposition_.migrate(s_, step);
+    stats_.migrated = m.moved;
+    stats_.migratedTotal += m.moved;
+    stats_.maxRankDistance = std::max(stats_.maxRankDistance, m.maxRankDistance);
+  });
+  evaluate(step);
+  stats_.phases.time(kIntegration, [&] {
+    kick(dt);
+    materials_.evaluate(materialFields()); // p, cs of the corrected state (output, next dt)
+    solver_->updateSmoothing();
+  });
+  checkFinite(step + 1, time + dt);
+  if (mpi_.size() > 1) stats_.phases.time(kExchange, [&] { balance(step + 1); });
+}
+
+// One force evaluation: ghosts, neighbors, density, kernel correction, rates.
+template <int Dim> void SphMethod<Dim>::evaluate(std::int64_t step) {
+  stats_.phases.time(kExchange, [&] { exchangeHalo(); });
+  stats_.phases.time(kBoundaries, [&] {
+    double hmax = 0.0;
+    for (double h : s_[f_.h]) hmax = std::max(hmax, h); // owned and remote ghosts
+    boundaries_.buildGhosts(s_, solver_->support() * mpi_.max(hmax));
+  });
+  stats_.phases.time(kNeighbors, [&] { findNeighbors(step); });
+  if (solver_->usesSummationDensity()) densityPass();
+  if (solver_->correctsKernel()) stats_.phases.time(kForces, [&] { kernelCorrection(); });
+  stats_.phases.time(kForces, [&] { forces(); });
+}
+
+// t = 0: the modules' initial values (H = I/h, unstressed solids), then p and cs.
+template <int Dim> void SphMethod<Dim>::start() {
+  for (const auto& m : modules_) m->initialise(s_, f_);
+  materials_.evaluate(materialFields());
+}
+
+template <int Dim> void SphMethod<Dim>::kickDrift(double dt) {
+  auto x = s_[f_.x];
+  auto v = s_[f_.v];
+  auto e = s_[f_.e];
+  auto rho = s_[f_.rho];
+  const auto a = s_[f_.a];
+  const auto dedt = s_[f_.dedt];
+  const auto drhodt = s_[f_.drhodt];
+  const std::size_t n = s_.localCount();
+  for (std::size_t i = 0; i < n; ++i) {
+    x[i] += dt * v[i] + (0.5 * dt * dt) * a[i];
+    v[i] += dt * a[i];
+    e[i] += dt * dedt[i];
+  }
+  if (!solver_->usesSummationDensity())
+    for (std::size_t i = 0; i < n; ++i) rho[i] += dt * drhodt[i];
+}
+
+template <int Dim> void SphMethod<Dim>::kick(double dt) {
+  auto v = s_[f_.v];
+  auto e = s_[f_.e];
+  auto rho = s_[f_.rho];
+  const auto a = s_[f_.a], aOld = s_[f_.aOld];
+  const auto dedt = s_[f_.dedt], dedtOld = s_[f_.dedtOld];
+  const auto drhodt = s_[f_.drhodt], drhodtOld = s_[f_.drhodtOld];
+  const double half = 0.5 * dt;
+  const std::size_t n = s_.localCount();
+  for (std::size_t i = 0; i < n; ++i) {
+    v[i] += half * (a[i] - aOld[i]);
+    e[i] += half * (dedt[i] - dedtOld[i]);
+  }
+  if (!solver_->usesSummationDensity())
+    for (std::size_t i = 0; i < n; ++i) rho[i] += half * (drhodt[i] - drhodtOld[i]);
+}
+
+// Remote and periodic ghosts within each owned particle's support: its sphere (SPH), or the
+// bounding box of |H x| < k, half-width k |row d of H^-1| along axis d, with the enclosing
+// sphere k h (ASPH).
+template <int Dim> void SphMethod<Dim>::exchangeHalo() {
+  const std::size_t n = s_.localCount();
+  const auto h = s_[f_.h];
+  reach_.resize(n);
+  if (f_.anisotropic()) {
+    const auto H = s_[f_.H];
+    boxReach_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      boxReach_[i] = solver_->support() * H[i].inverse().rowwise().norm();
+      reach_[i] = solver_->support() * h[i];
+    }
+    halo_.build(s_, f_.x, reach_, std::span<const Vec<Dim>>(boxReach_), haloFields_);
+  } else {
+    for (std::size_t i = 0; i < n; ++i) reach_[i] = solver_->support() * h[i];
+    halo_.build(s_, f_.x, reach_, haloFields_);
+  }
+  stats_.ghosts = halo_.ghosts();
+  stats_.ghostFractionMax = std::max(
+      stats_.ghostFractionMax, mpi_.size() == 1 || n == 0
+                                   ? 0.0
+                                   : static_cast<double>(halo_.ghosts()) / static_cast<double>(n));
+}
+
+// ASPH searches each support's ellipsoid (its bounding box), SPH its sphere; the neighbor count
+// is the load-balancing cost.
+template <int Dim> void SphMethod<Dim>::findNeighbors(std::int64_t step) {
+  const auto H = f_.anisotropic() ? s_[f_.H] : std::span<Tensor<Dim>>{};
+  const auto build = [&](const neighbors::CanonicalOrder<Dim>* order) {
+    return f_.anisotropic()
+               ? neighbors::buildNeighborList<Dim>(s_[f_.x], s_[f_.h],
+                                                   std::span<const Tensor<Dim>>(H), s_.localCount(),
+                                                   solver_->support(), grid_, neighbors_, order)
+               : neighbors::buildNeighborList<Dim>(s_[f_.x], s_[f_.h], s_.localCount(),
+                                                   solver_->support(), grid_, neighbors_, order);
+  };
+  if (setup_.reproducible) {
+    const neighbors::CanonicalOrder<Dim> order{s_[f_.id], s_[f_.x], canonicalH()};
+    if (!build(&order)) stats_.canonicalLost = true;
+  } else {
+    build(nullptr);
+  }
+  const auto cost = s_[cost_];
+  for (std::size_t i = 0; i < s_.localCount(); ++i)
+    cost[i] = static_cast<std::int32_t>(1 + neighbors_.offsets[i + 1] - neighbors_.offsets[i]);
+  stats_.pairs += neighbors_.pairs();
+  ++stats_.evaluations;
+  if (mpi_.size() > 1 && step % 10 == 0) {
+    // Interacting pairs whose partner lives on another rank (or is a periodic image): the
+    // communication a partition causes, comparable between the SFC and METIS partitioners.
+    const std::size_t lo = s_.localCount(), hi = lo + halo_.ghosts();
+    std::uint64_t cut = 0;
+    for (std::uint32_t j : neighbors_.indices) cut += j >= lo && j < hi;
+    stats_.crossPairs = cut;
+  }
+}
+
+// Summation density, then p and cs of the new density; the ghosts receive all three again.
+template <int Dim> void SphMethod<Dim>::densityPass() {
+  stats_.phases.time(kDensity, [&] {
+    solver_->computeDensity(neighbors_);
+    materials_.evaluate(materialFields());
+  });
+  stats_.phases.time(kExchange, [&] { halo_.refresh(s_, refreshFields_); });
+  stats_.phases.time(kBoundaries, [&] { boundaries_.refreshGhosts(s_, refreshFields_); });
+}
+
+template <int Dim> void SphMethod<Dim>::kernelCorrection() {
+  solver_->computeKernelCorrection(neighbors_);
+  halo_.refresh(s_, correctionFields_);
+  boundaries_.refreshGhosts(s_, correctionFields_);
+}
+
+template <int Dim> void SphMethod<Dim>::forces() {
+  solver_->computeRates(neighbors_);
+  for (const auto& m : modules_) m->afterRates(s_, f_);
+}
+
+template <int Dim> materials::MaterialFields SphMethod<Dim>::materialFields() {
+  const std::size_t n = s_.localCount();
+  materials::MaterialFields mf{s_[f_.rho].first(n),
+                               s_[f_.e].first(n),
+                               s_[f_.material].first(n),
+                               s_[f_.p].first(n),
+                               s_[f_.cs].first(n),
+                               {},
+                               {},
+                               {},
+                               {}};
+  if (f_.hasStrength()) {
+    mf.L = s_[f_.L].first(n);
+    mf.S = s_[f_.S].first(n);
+    mf.plasticStrain = s_[f_.plasticStrain].first(n);
+    mf.temperature = s_[f_.temperature].first(n);
+  }
+  return mf;
+}
+
+// Measures the imbalance of the neighbor cost and re-cuts the key axis when due (the rows of
+// the last neighbor search still match the store here, which the METIS graph needs).
+template <int Dim> void SphMethod<Dim>::balance(std::int64_t step) {
+  stats_.imbalance = decomposition_.imbalance(s_);
+  if (!decomposition_.rebalanceDue(step, stats_.imbalance)) return;
+  const auto r = decomposition_.rebalance(s_, neighbors_.offsets, neighbors_.indices);
+  ++stats_.rebalances;
+  stats_.imbalance = r.imbalanceAfter;
+  if (r.metisEdgeCut >= 0) stats_.metisEdgeCut = r.metisEdgeCut;
+  // Scheduled rebalances are routine; one forced by the threshold is worth a line.
+  if (setup_.note && r.imbalanceBefore > setup_.imbalanceThreshold)
+    setup_.note(fmt::format(
+        "rebalance at step {}: cost max/mean {:.3f} -> {:.3f}, {} particles moved{}", step,
+        r.imbalanceBefore, r.imbalanceAfter, r.moved,
+        r.metisEdgeCut >= 0 ? fmt::format(", METIS edge cut {} pairs", r.metisEdgeCut) : ""));
+}
+
+// The geometric mean of the owned particles' h over all ranks, summed exactly (log2 h in fixed
+// point, integer allreduce): the same value on any rank count, which a canonical neighbor
+// order needs for its grid.
+template <int Dim> double SphMethod<Dim>::canonicalH() const {
+  std::int64_t sum[2] = {0, 0};
+  for (double h : s_[f_.h].first(s_.localCount())) {
+    if (!(h > 0.0) || !std::isfinite(h)) continue;
+    sum[0] += std::llround(std::log2(h) * 1048576.0);
+    ++sum[1];
+  }
+  MPI_Allreduce(MPI_IN_PLACE, sum, 2, MPI_INT64_T, MPI_SUM, mpi_.comm());
+  if (sum[1] == 0) return 1.0;
+  return std::exp2(static_cast<double>(sum[0]) / 1048576.0 / static_cast<double>(sum[1]));
+}
+
+template <int Dim>
+double SphMethod<Dim>::stableTimeStep(double floor, std::int64_t step, double time) {
+  const auto [dtLocal, which] = solver_->stableTimeStep();
+  const double dt = mpi_.min(dtLocal);
+  if (!(dt > floor) || !std::isfinite(dt)) {
+    std::string who = "no particle";
+    if (dtLocal == dt && s_.localCount() > 0) {
+      who = fmt::format(
+          "particle id {} (h = {:.3e} m, sound speed {:.3e} m/s, density {:.3e} kg/m^3)",
+          s_[f_.id][which], s_[f_.h][which], s_[f_.cs][which], s_[f_.rho][which]);
+    }
+    throw RunError(
+        fmt::format("time step collapsed to {:.3e} s at step {} (t = {:.6e} s), set by {}", dt,
+                    step, time, who));
+  }
+  return dt;
+}
+
+template <int Dim> void SphMethod<Dim>::checkFinite(std::int64_t step, double time) const {
+  const auto id = s_[f_.id];
+  const auto x = s_[f_.x];
+  const auto v = s_[f_.v];
+  const auto e = s_[f_.e];
+  const auto rho = s_[f_.rho];
+  const auto h = s_[f_.h];
+  ParticleId bad = std::numeric_limits<ParticleId>::max();
+  int field = 0;
+  for (std::size_t i = 0; i < s_.localCount() && bad == std::numeric_limits<ParticleId>::max();
+       ++i) {
+    int fld = 0;
+    if (!x[i].allFinite())
+      fld = 1;
+    else if (!v[i].allFinite())
+      fld = 2;
+    else if (!std::isfinite(e[i]))
+      fld = 3;
+    else if (!(rho[i] > 0.0) || !std::isfinite(rho[i]))
+      fld = 4;
+    else if (!(h[i] > 0.0) || !std::isfinite(h[i]))
+      fld = 5;
+    if (fld) bad = id[i], field = fld;
+  }
+  ParticleId first;
+  MPI_Allreduce(&bad, &first, 1, MPI_UINT64_T, MPI_MIN, mpi_.comm());
+  if (first == std::numeric_limits<ParticleId>::max()) return;
+  int code = first == bad ? field : 0, fieldCode = 0;
+  MPI_Allreduce(&code, &fieldCode, 1, MPI_INT, MPI_MAX, mpi_.comm());
+  static const char* names[] = {"",
+                                "position",
+                                "velocity",
+                                "specific_internal_energy",
+                                "density (non-positive or non-finite)",
+                                "smoothing_length"};
+  throw RunError(
+      fmt::format("non-finite state: field '{}' of particle id {} at step {} (t = {:.6e} s)",
+                  names[fieldCode], first, step, time));
+}
+
+// The key is the checkpoint format's: unchanged since rebalances were first counted.
+template <int Dim> void SphMethod<Dim>::save(io::CheckpointState& st) const {
+  st.integers["rebalances"] = {stats_.rebalances};
+  for (const auto& m : modules_) m->save(st);
+}
+
+template <int Dim> void SphMethod<Dim>::restore(const io::CheckpointState& st) {
+  stats_.rebalances = static_cast<int>(st.integer("rebalances"));
+  for (const auto& m : modules_) m->restore(st);
+}
+
+template class SphMethod<1>;
+template class SphMethod<2>;
+template class SphMethod<3>;
+
+} // namespace spall::methods
