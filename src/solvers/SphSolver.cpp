@@ -3,6 +3,8 @@
 #include "spall/core/SymmetricEigen.hpp"
 #include "spall/kernels/Kernels.hpp"
 #include "spall/kernels/PsiTable.hpp"
+#include "spall/solvers/IdealH.hpp"
+#include "spall/solvers/SphPairTerms.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -19,16 +21,6 @@ template <int Dim> double ipow(double x) {
     return x * x;
   else
     return x * x * x;
-}
-
-// x^(1/Dim) without the general pow (a fifth of the smoothing update's time in 2D).
-template <int Dim> double root(double x) {
-  if constexpr (Dim == 1)
-    return x;
-  else if constexpr (Dim == 2)
-    return std::sqrt(x);
-  else
-    return std::cbrt(x);
 }
 
 // What the force loop carries: pressure alone (no material has strength), the full Cauchy stress
@@ -126,31 +118,22 @@ public:
       ratesLoop<Stress::Cauchy>(nl);
   }
 
-  // Owen (2010) Eqs. 2-3: s = n_h^target/n_h (at most 4) from the last loop's Psi_0, a = 0.4 (1 +
-  // s^2) for s < 1 and 0.4 (1 + s^-3) otherwise; h scales by (1 - a + a s), |H| by its -nu power
-  // (Eq. 4).
-  double sizeFactor(std::size_t i) const {
-    const double nh = psi_.nodesPerH(root<Dim>(s_[f_.sumWH][i]));
-    const double sRatio = std::min(nh > 0.0 ? cfg_.nodes_per_h / nh : 4.0, 4.0);
-    const double a = sRatio < 1.0 ? 0.4 * (1.0 + sRatio * sRatio)
-                                  : 0.4 * (1.0 + 1.0 / (sRatio * sRatio * sRatio));
-    return 1.0 - a + a * sRatio;
-  }
-
+  // Owen (2010) Eqs. 1-6 (solvers/IdealH.hpp): n_h from the last loop's Psi_0, then h, or H from
+  // the second moments of the same loop.
   void updateSmoothing() override {
-    if constexpr (Aniso) {
-      updateSmoothingTensor();
-      return;
-    }
     const auto h = s_[f_.h];
     const auto m = s_[f_.m];
     const auto rho = s_[f_.rho];
-    const double target = cfg_.nodes_per_h;
+    const auto sumWH = s_[f_.sumWH];
+    const SmoothingLimits lim{cfg_.nodes_per_h, cfg_.h_min, cfg_.h_max, cfg_.h_max_ratio,
+                              cfg_.max_aspect_ratio};
     for (std::size_t i = 0; i < s_.localCount(); ++i) {
-      double hNew = sizeFactor(i) * h[i];
-      const double hVolume = target * root<Dim>(m[i] / rho[i]);
-      hNew = std::min(hNew, cfg_.h_max_ratio * hVolume);
-      h[i] = std::clamp(hNew, cfg_.h_min, cfg_.h_max);
+      const double factor = sizeFactor(psi_.nodesPerH(root<Dim>(sumWH[i])), cfg_.nodes_per_h);
+      if constexpr (Aniso) {
+        idealHTensor<Dim>(s_[f_.H][i], h[i], factor, psi2Eta_[i], psi2x_[i], m[i], rho[i], lim);
+      } else {
+        h[i] = idealH<Dim>(h[i], factor, m[i], rho[i], lim);
+      }
     }
   }
 
@@ -239,7 +222,8 @@ private:
         const auto mat = s_[f_.material];
         for (std::size_t j = 0; j < s_.size(); ++j)
           artificialStress_[j] = solid_[static_cast<std::size_t>(mat[j])]
-                                     ? artificialStressOf(Sdev[j], p[j], rho[j])
+                                     ? pair::artificialStress<Dim>(Sdev[j], p[j], rho[j],
+                                                                   cfg_.artificial_stress.epsilon)
                                      : Tensor<Dim>::Zero();
       }
     }
@@ -265,7 +249,7 @@ private:
       const double rhoi = rho[i], pOverRho2I = p[i] / (rhoi * rhoi), ci = cs[i];
       const std::int32_t bodyi = body[i];
       [[maybe_unused]] const double rhoiInv = 1.0 / rhoi;
-      const double fi = balsara ? balsaraFactor(divv[i], curlv[i], ci, hi) : 1.0;
+      const double fi = balsara ? pair::balsaraFactor(divv[i], curlv[i], ci, hi) : 1.0;
       Vec<Dim> ai = Vec<Dim>::Zero();
       double dei = 0.0, drhoi = 0.0, sumWHi = 0.0, mui = 0.0, divi = 0.0;
       [[maybe_unused]] Tensor<Dim> psi2i, psi2xi;
@@ -278,7 +262,7 @@ private:
       if constexpr (Solid) {
         SiOwn = sOverRho_[i]; // S_i/rho_i^2, or S_i/rho_i for the product form
         Li.setZero();
-        if (artificialStress) Ri = artificialStress_[i];
+        Ri = artificialStress ? artificialStress_[i] : MatD::Zero();
       }
       if constexpr (Corrected) Bi = Bcorr[i].template topLeftCorner<Dim, Dim>();
 
@@ -346,10 +330,10 @@ private:
         if (vr < 0.0) {
           // Monaghan & Gingold (1983) viscosity (Lam et al. 2001, Eqs. 22-24).
           const double hbar = Aniso ? hbarOverR * std::sqrt(r2) : 0.5 * (hi + h[j]);
-          const double mu = hbar * vr / (r2 + 0.01 * hbar * hbar);
-          const double cbar = 0.5 * (ci + cs[j]), rhobar = 0.5 * (rhoi + rho[j]);
-          Pij = (-alpha * cbar * mu + beta * mu * mu) / rhobar;
-          if (balsara) Pij *= 0.5 * (fi + balsaraFactor(divv[j], curlv[j], cs[j], h[j]));
+          double mu;
+          Pij = pair::viscosity(vr, r2, hbar, 0.5 * (ci + cs[j]), 0.5 * (rhoi + rho[j]), alpha,
+                                beta, mu);
+          if (balsara) Pij *= 0.5 * (fi + pair::balsaraFactor(divv[j], curlv[j], cs[j], h[j]));
           mui = std::max(mui, -mu);
         }
         const double rhoj = rho[j];
@@ -367,8 +351,8 @@ private:
           const double other = product ? pOther / (rhoi * rhoj) : pOverRho2Other;
           ai.noalias() -= mj * (own * gI + other * gJ + Pij * gradW);
         } else {
-          const double term =
-              (product ? (pOwn + pOther) / (rhoi * rhoj) : pOverRho2Own + pOverRho2Other) + Pij;
+          const double term = pair::pressureTerm(product, pOwn, pOther, rhoi, rhoj, pOverRho2Own,
+                                                 pOverRho2Other, Pij);
           ai.noalias() -= (mj * term) * gradW;
         }
         const double vgrad = vij.dot(gradW);
@@ -466,121 +450,6 @@ private:
     const double eta = std::sqrt(xij.dot(g));
     if (eta >= K::support || eta == 0.0) return Vec<Dim>::Zero();
     return (row.normGrad * K::df(eta) / eta) * g;
-  }
-
-  // Owen (2010), Sec. II: the ideal H from the sums of the last neighbor loop.
-  // Size (Eqs. 1-4): n_h from Psi_0 = (sum W^H)^(1/nu) by the tabulated Psi_0(n_h), s = n_h^target/
-  // n_h, a = 0.4 (1 + s^2) or 0.4 (1 + s^-3), and |H| scales by (1 - a + a s)^-nu.
-  // Shape (Eqs. 5-6): the goal is that "in the local eta space the neighbors of node i should
-  // appear isotropic" (Sec. II-B). Psi_2 is Eq. 5's kernel-weighted second moment of the
-  // neighbor directions, taken in the eta = H_i x frame: sum_j (W^H(eta_j)/eta_j^(nu-1))^2
-  // eta^_j eta^_j^T. Neighbors that sit closer in eta along an axis weigh more there, and the
-  // shape correction T = Psi_2^(1/2)/|Psi_2|^(1/2nu) (Eq. 6's normalised square root) stretches
-  // eta along it: eta' = T eta, so H' = (H T^2 H)^(1/2) (the kernel sees only |eta|). When the
-  // neighbors look isotropic in eta, T = I: any lattice mapped by a linear A (Fig. 5) is then a
-  // fixed point at H ~ (A A^T)^(-1/2), whatever the weights, because a square, hexagonal or cubic
-  // lattice has no preferred direction for a second moment. (Eq. 5 as printed takes the moment of
-  // the physical directions and Eq. 6 its inverse root; without the eta frame a distorted lattice
-  // is not a fixed point: the physical-frame version settled at axis ratio 2.8 instead of 4.)
-  // Limits: h_min <= every axis <= h_max, the longest axis <= h_max_ratio n_h (m/rho)^(1/nu) (as
-  // for SPH), and longest/shortest <= max_aspect_ratio.
-  void updateSmoothingTensor() {
-    const auto h = s_[f_.h];
-    const auto m = s_[f_.m];
-    const auto rho = s_[f_.rho];
-    const auto Hs = s_[f_.H];
-    const double target = cfg_.nodes_per_h;
-    for (std::size_t i = 0; i < s_.localCount(); ++i) {
-      const double size = root<Dim>(std::abs(Hs[i].determinant())) / sizeFactor(i);
-      // The shape correction, where Psi_2 sees neighbors in every direction (a particle with
-      // neighbors on one line only keeps its shape). H' = (H T^2 H)^(1/2) shares the
-      // eigenvectors of H T^2 H, its eigenvalues are their square roots.
-      Tensor<Dim> G = Hs[i] * Hs[i];
-      // (2D needs only the eigenvalues of Psi_2, see spectralMap; 3D its eigenvectors too.)
-      const SymmetricEigen<Dim> psi2 =
-          Dim == 2
-              ? SymmetricEigen<Dim>{symmetricEigenvalues<Dim>(psi2Eta_[i]), Tensor<Dim>::Zero()}
-              : symmetricEigen<Dim>(psi2Eta_[i]);
-      const Vec<Dim>& mu = psi2.values;
-      if (mu[0] > 1e-6 * mu[Dim - 1] && mu[0] > 0.0) {
-        // Relaxed like the size (Eqs. 2-3): half the correction per step, at most 20% per axis,
-        // so that a transient neighborhood (a particle passing between rows) cannot flip or
-        // collapse the ellipse in one step.
-        Vec<Dim> t = mu.cwiseSqrt().cwiseSqrt();
-        t /= root<Dim>(t.prod());
-        t = t.cwiseMax(1.0 / 1.2).cwiseMin(1.2);
-        const Tensor<Dim> T2 = spectralMap(psi2Eta_[i], psi2, t.cwiseAbs2());
-        G = Hs[i] * T2 * Hs[i];
-        G = 0.5 * (G + G.transpose());
-      }
-      Vec<Dim> lambda = symmetricEigenvalues<Dim>(G).cwiseMax(0.0).cwiseSqrt();
-      // The axes from a physical-frame moment, sum_j W^H(eta_j)^2 x^_j x^_j / r_j^2 (Eq. 5 with
-      // the physical distance in place of eta, so that closer neighbors always weigh more): it
-      // keeps the symmetry of the node distribution, which the eta-frame correction alone can
-      // break (on the distorted lattice 179 of 204 particles settled 7 degrees off, at one of
-      // two mirror-image states whose eta-frame moment is isotropic too). Its eigenvectors in
-      // ascending order carry H's eigenvalues in ascending order.
-      // (Where that moment is degenerate, a particle with neighbors on one line, the axes of the
-      // corrected H stay.)
-      const SymmetricEigen<Dim> axes = symmetricEigen<Dim>(psi2x_[i]);
-      const bool axesKnown = axes.values[0] > 1e-6 * axes.values[Dim - 1] && axes.values[0] > 0.0;
-      const Tensor<Dim> Q = axesKnown ? axes.vectors : symmetricEigen<Dim>(G).vectors;
-      lambda *= size / root<Dim>(lambda.prod());
-      // Limits on the axes 1/lambda.
-      const double hVolume = cfg_.h_max_ratio * target * root<Dim>(m[i] / rho[i]);
-      const double hLongest = std::min(cfg_.h_max, hVolume);
-      for (int k = 0; k < Dim; ++k)
-        lambda[k] = std::clamp(lambda[k], 1.0 / hLongest, 1.0 / cfg_.h_min);
-      const double lambdaMin =
-          std::max(lambda.minCoeff(), lambda.maxCoeff() / cfg_.max_aspect_ratio);
-      for (int k = 0; k < Dim; ++k) lambda[k] = std::max(lambda[k], lambdaMin);
-      Hs[i] = Q * lambda.asDiagonal() * Q.transpose();
-      h[i] = 1.0 / lambda.minCoeff();
-    }
-  }
-
-  // f(M) for a symmetric M with eigen-decomposition e and f(e.values) = fmu. In 2D without
-  // eigenvectors: f(M) = f(mu_0) I + (f(mu_1) - f(mu_0)) P with P = (M - mu_0 I)/(mu_1 - mu_0),
-  // the projector onto the larger eigenvalue's axis (for nearly equal eigenvalues f(M) ~
-  // f(mu_0) I).
-  static Tensor<Dim> spectralMap(const Tensor<Dim>& M, const SymmetricEigen<Dim>& e,
-                                 const Vec<Dim>& fmu) {
-    if constexpr (Dim == 2) {
-      const Vec<2>& mu = e.values;
-      Tensor<2> out = fmu[0] * Tensor<2>::Identity();
-      const double gap = mu[1] - mu[0];
-      if (gap > 1e-12 * std::abs(mu[1]))
-        out += ((fmu[1] - fmu[0]) / gap) * (M - mu[0] * Tensor<2>::Identity());
-      return out;
-    } else {
-      return e.vectors * fmu.asDiagonal() * e.vectors.transpose();
-    }
-  }
-
-  // Gray, Monaghan & Swift (2001): in the principal frame of the Cauchy stress
-  // sigma = S - p I, each tensile principal stress sigma' > 0 gets R' = -epsilon sigma'/rho^2
-  // (compressive ones none); R = Q R' Q^T back in the lab frame.
-  Tensor<Dim> artificialStressOf(const Tensor<3>& S, double p, double rho) const {
-    const double scale = -cfg_.artificial_stress.epsilon / (rho * rho);
-    Tensor<Dim> sigma = S.template topLeftCorner<Dim, Dim>();
-    sigma.diagonal().array() -= p;
-    if constexpr (Dim == 1) {
-      return Tensor<1>::Constant(sigma(0, 0) > 0.0 ? scale * sigma(0, 0) : 0.0);
-    } else {
-      Eigen::SelfAdjointEigenSolver<Tensor<Dim>> eig;
-      eig.computeDirect(sigma);
-      Vec<Dim> rPrincipal = eig.eigenvalues();
-      for (int a = 0; a < Dim; ++a)
-        rPrincipal[a] = rPrincipal[a] > 0.0 ? scale * rPrincipal[a] : 0.0;
-      const auto& Q = eig.eigenvectors();
-      return Q * rPrincipal.asDiagonal() * Q.transpose();
-    }
-  }
-
-  // Balsara (1995) switch, from the previous step's div v and |curl v|.
-  static double balsaraFactor(double div, double curl, double c, double h) {
-    const double ad = std::abs(div);
-    return ad / (ad + curl + 1.0e-4 * c / h + 1e-300);
   }
 
   SolverConfig cfg_;

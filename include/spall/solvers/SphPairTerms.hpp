@@ -1,0 +1,58 @@
+#pragma once
+// The pair physics of the SPH force loop, one small function a term, free of loops and of how
+// pairs are visited (SphSolver's ratesLoop visits them and sums). Symbols as in the papers.
+#include "spall/core/Types.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+
+namespace spall::solvers::pair {
+
+// Monaghan & Gingold (1983) artificial viscosity (Lam et al. 2001, Eqs. 22-24) of an approaching
+// pair (v_ij . x_ij = vr < 0): mu_ij = hbar vr / (r^2 + 0.01 hbar^2),
+// Pi_ij = (-alpha cbar mu_ij + beta mu_ij^2) / rhobar. Returns Pi_ij; mu_ij (for the time step)
+// through `mu`.
+inline double viscosity(double vr, double r2, double hbar, double cbar, double rhobar, double alpha,
+                        double beta, double& mu) {
+  mu = hbar * vr / (r2 + 0.01 * hbar * hbar);
+  return (-alpha * cbar * mu + beta * mu * mu) / rhobar;
+}
+
+// Balsara (1995): |div v| / (|div v| + |curl v| + 1e-4 c/h), from the previous step's sums; the
+// pair's viscosity is scaled by the mean of both particles' factors.
+inline double balsaraFactor(double div, double curl, double c, double h) {
+  const double ad = std::abs(div);
+  return ad / (ad + curl + 1.0e-4 * c / h + 1e-300);
+}
+
+// Lam et al. (2001) Eq. 20, its isotropic part per unit m_j grad W:
+// p_i/rho_i^2 + p_j/rho_j^2 + Pi_ij, or in the product form (p_i + p_j)/(rho_i rho_j) + Pi_ij
+// (stable where heavy particles meet light ones under tension: copper on PMMA, density ratio 8).
+// pOverRho2i/j are p/rho^2 of each side, precomputed.
+inline double pressureTerm(bool product, double pi, double pj, double rhoi, double rhoj,
+                           double pOverRho2i, double pOverRho2j, double Pij) {
+  return (product ? (pi + pj) / (rhoi * rhoj) : pOverRho2i + pOverRho2j) + Pij;
+}
+
+// Gray, Monaghan & Swift (2001): in the principal frame of the Cauchy stress sigma = S - p I,
+// each tensile principal stress sigma' > 0 gets R' = -epsilon sigma'/rho^2 (compressive ones
+// none); R = Q R' Q^T back in the lab frame. The pair term is m_j f_ij^n (R_i + R_j) . grad W
+// with f_ij = W(r_ij)/W(dp).
+template <int Dim>
+Tensor<Dim> artificialStress(const Tensor<3>& S, double p, double rho, double epsilon) {
+  const double scale = -epsilon / (rho * rho);
+  Tensor<Dim> sigma = S.template topLeftCorner<Dim, Dim>();
+  sigma.diagonal().array() -= p;
+  if constexpr (Dim == 1) {
+    return Tensor<1>::Constant(sigma(0, 0) > 0.0 ? scale * sigma(0, 0) : 0.0);
+  } else {
+    Eigen::SelfAdjointEigenSolver<Tensor<Dim>> eig;
+    eig.computeDirect(sigma);
+    Vec<Dim> rPrincipal = eig.eigenvalues();
+    for (int a = 0; a < Dim; ++a) rPrincipal[a] = rPrincipal[a] > 0.0 ? scale * rPrincipal[a] : 0.0;
+    const auto& Q = eig.eigenvectors();
+    return Q * rPrincipal.asDiagonal() * Q.transpose();
+  }
+}
+
+} // namespace spall::solvers::pair
