@@ -202,6 +202,7 @@ private:
     const bool product = cfg_.stress_form == StressForm::RhoProduct;
     const auto divv = balsara ? s_[f_.divv] : std::span<double>{};
     const auto curlv = balsara ? s_[f_.curlv] : std::span<double>{};
+    if (balsara) divNew_.resize(s_.localCount()), curlNew_.resize(s_.localCount());
     const auto Sdev = Solid ? s_[f_.S] : std::span<Tensor<3>>{};
     const auto Lgrad = Solid ? s_[f_.L] : std::span<Tensor<3>>{};
     // S_j / rho_j^2 (or S_j / rho_j for the product form) of every row, ghosts included, once:
@@ -424,9 +425,16 @@ private:
       if constexpr (Aniso) psi2Eta_[i] = s_[f_.H][i] * psi2i * s_[f_.H][i], psi2x_[i] = psi2xi;
       muMax[i] = mui;
       if (balsara) {
-        divv[i] = divi;
-        curlv[i] = curli.norm();
+        // Not into divv/curlv yet: later rows of this loop read them of their owned neighbors,
+        // which must see the previous loop's values, as ghosts do (else the result depends on
+        // the row order, and so on the rank count).
+        divNew_[i] = divi;
+        curlNew_[i] = curli.norm();
       }
+    }
+    if (balsara) {
+      std::copy_n(divNew_.begin(), n, divv.begin());
+      std::copy_n(curlNew_.begin(), n, curlv.begin());
     }
   }
 
@@ -464,7 +472,8 @@ private:
   ParticleFields<Dim> f_;
   kernels::PsiTable psi_;
   std::vector<double> rhoPrev_;
-  std::vector<AnisoRow> anisoRow_; // scratch of the ASPH loops
+  std::vector<double> divNew_, curlNew_; // this loop's div v, |curl v| (Balsara), owned rows
+  std::vector<AnisoRow> anisoRow_;       // scratch of the ASPH loops
   // Second moments of the last force loop, owned rows, for the next updateSmoothing (no
   // migration in between): Eq. 5 in the eta frame of H_i, and the physical-frame one of the axes.
   std::vector<Tensor<Dim>> psi2Eta_, psi2x_;
