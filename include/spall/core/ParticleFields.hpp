@@ -59,7 +59,7 @@ template <int Dim> struct ParticleFields {
     dedtOld = s.add<double>("specific_internal_energy_rate_previous", none);
     drhodt = s.add<double>("density_rate", ck);
     drhodtOld = s.add<double>("density_rate_previous", none);
-    sumWH = s.add<double>("psi0", none);
+    sumWH = s.add<double>("sum_wh", none);
     muMax = s.add<double>("mu_max", none);
   }
   // Balsara (1995): div v and |curl v| of the last force loop, read of neighbors.
