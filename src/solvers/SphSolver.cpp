@@ -180,8 +180,8 @@ private:
   // plain form under-reads the stress divergence, and the velocity divergence that drives the
   // density, by the missing part of the support: a clamped plate bends 20% too easily with
   // 10 particles through its thickness (elastic_plate_2d); corrected, it is within a few percent.
-  // The Balsara switch and the product form are per-particle factors, read once per loop (a
-  // branch every pair takes the same way), not instantiations.
+  // The Balsara switch and the product form are per-particle factors (rowScratch_), not
+  // instantiations.
   template <Stress Mode> void ratesLoop(const neighbors::NeighborList& nl) {
     constexpr bool Solid = Mode != Stress::Pressure;
     constexpr bool Corrected = Mode == Stress::CorrectedCauchy;
@@ -236,28 +236,37 @@ private:
     // What the pair loop needs of a neighbor j that depends on j alone, once per row and packed
     // together: the pair loop is left with one division (1/r) and one square root.
     if constexpr (Aniso) prepareAnisoRows(), psi2Eta_.resize(n), psi2x_.resize(n);
+    // The pair term's form and the Balsara switch enter as per-row factors, so that the pair
+    // loop has no branch on them: q = p/rho^2 and s = 1 (rho^2 form) or q = p and s = 1/rho
+    // (product form), the pressure term being (q_i + q_j) s_i s_j; f = the Balsara factor, or 1.
+    // (A multiplication by exactly 1 changes no bit: the rho^2 form without Balsara computes what
+    // it computed when each was an instantiation of its own.)
     rowScratch_.resize(s_.size());
     for (std::size_t j = 0; j < s_.size(); ++j) {
       const double hjInv = 1.0 / h[j];
-      rowScratch_[j] = {hjInv, sigma * ipow<Dim>(hjInv) * hjInv, m[j] / rho[j],
-                        p[j] / (rho[j] * rho[j])};
+      rowScratch_[j] = {hjInv,
+                        sigma * ipow<Dim>(hjInv) * hjInv,
+                        m[j] / rho[j],
+                        product ? p[j] : p[j] / (rho[j] * rho[j]),
+                        product ? 1.0 / rho[j] : 1.0,
+                        balsara ? pair::balsaraFactor(divv[j], curlv[j], cs[j], h[j]) : 1.0};
     }
 
     for (std::size_t i = 0; i < n; ++i) {
       const Vec<Dim> xi = x[i], vi = v[i];
       const double hi = h[i], hiInv = 1.0 / hi;
       const double gradNormI = sigma * ipow<Dim>(hiInv) * hiInv;
-      const double rhoi = rho[i], pOverRho2I = p[i] / (rhoi * rhoi), ci = cs[i];
+      const double rhoi = rho[i], ci = cs[i];
       const std::int32_t bodyi = body[i];
-      [[maybe_unused]] const double rhoiInv = 1.0 / rhoi;
-      const double fi = balsara ? pair::balsaraFactor(divv[i], curlv[i], ci, hi) : 1.0;
+      const RowScratch& ri = rowScratch_[i];
+      const double qI = ri.q, sI = ri.s, fi = ri.balsara;
       Vec<Dim> ai = Vec<Dim>::Zero();
       double dei = 0.0, drhoi = 0.0, sumWHi = 0.0, mui = 0.0, divi = 0.0;
       [[maybe_unused]] Tensor<Dim> psi2i, psi2xi;
       if constexpr (Aniso) psi2i.setZero(), psi2xi.setZero();
       [[maybe_unused]] Eigen::Matrix<double, Dim == 3 ? 3 : 1, 1> curli;
       curli.setZero();
-      // Solids: S_i / rho_i^2 (or S_i alone for the product form) in the Dim x Dim block, and the
+      // Solids: S_i / rho_i^2 (or S_i / rho_i for the product form) in the Dim x Dim block, and the
       // velocity gradient L_i = -sum_j (m_j/rho_j) v_ij (x) grad_i W_ij.
       [[maybe_unused]] MatD SiOwn, Li, Ri, Bi;
       if constexpr (Solid) {
@@ -334,26 +343,29 @@ private:
           double mu;
           Pij = pair::viscosity(vr, r2, hbar, 0.5 * (ci + cs[j]), 0.5 * (rhoi + rho[j]), alpha,
                                 beta, mu);
-          if (balsara) Pij *= 0.5 * (fi + pair::balsaraFactor(divv[j], curlv[j], cs[j], h[j]));
+          Pij *= 0.5 * (fi + rj.balsara); // exactly 1 without the switch
           mui = std::max(mui, -mu);
         }
         const double rhoj = rho[j];
         // Frictionless contact between bodies: across a body boundary only compression is
         // transmitted (no tension, no shear), so touching bodies can slide and separate.
         const bool across = frictionless && body[j] != bodyi;
-        double pOwn = p[i], pOther = p[j], pOverRho2Own = pOverRho2I, pOverRho2Other = rj.pOverRho2;
+        double qOwn = qI, qOther = rj.q;
         if (across) {
-          pOwn = std::max(pOwn, 0.0), pOther = std::max(pOther, 0.0);
-          pOverRho2Own = pOwn / (rhoi * rhoi), pOverRho2Other = pOther / (rhoj * rhoj);
+          const double pOwn = std::max(p[i], 0.0), pOther = std::max(p[j], 0.0);
+          qOwn = product ? pOwn : pOwn / (rhoi * rhoi);
+          qOther = product ? pOther : pOther / (rhoj * rhoj);
         }
+        const double sij = sI * rj.s; // 1, or 1/(rho_i rho_j)
         const double mj = m[j];
         if constexpr (Corrected) {
-          const double own = product ? pOwn / (rhoi * rhoj) : pOverRho2Own;
-          const double other = product ? pOther / (rhoi * rhoj) : pOverRho2Other;
-          ai.noalias() -= mj * (own * gI + other * gJ + Pij * gradW);
+          ai.noalias() -= mj * ((qOwn * sij) * gI + (qOther * sij) * gJ + Pij * gradW);
+        } else if constexpr (Solid) {
+          ai.noalias() -= (mj * pair::pressureTerm(qOwn, qOther, sij, Pij)) * gradW;
         } else {
-          const double term = pair::pressureTerm(product, pOwn, pOther, rhoi, rhoj, pOverRho2Own,
-                                                 pOverRho2Other, Pij);
+          // (The hydro loop keeps the division of the product form behind a branch: it spills
+          // less there than the factor s_i s_j, the solid loops the other way round.)
+          const double term = (product ? (qOwn + qOther) / (rhoi * rhoj) : qOwn + qOther) + Pij;
           ai.noalias() -= (mj * term) * gradW;
         }
         const double vgrad = vij.dot(gradW);
@@ -363,14 +375,24 @@ private:
             // energy share is -S_i/rho_i^2 : (m_j v_ij (x) grad W), which with the momentum term
             // conserves total energy pair by pair.
             // rho^2 form: (S_i/rho_i^2 + S_j/rho_j^2) grad W; product form: the same with
-            // S/rho on both sides, divided by the other density.
-            const Vec<Dim> tI = SiOwn * gI, tJ = sOverRho_[j] * gJ;
-            if (product) {
-              ai.noalias() += rj.vol * tI + (mj * rhoiInv) * tJ;
-              dei -= rj.vol * vij.dot(tI);
-            } else {
+            // S/rho on both sides, each times the other's s = 1/rho.
+            // (Each dimension in the form that compiles to the arithmetic the rho^2 form had
+            // as an instantiation of its own, so that earlier runs are reproduced bit for bit:
+            // in 1D the other's s applied to the gradient, a factor 1 there; in 2D and 3D a
+            // branch, which keeps the loop's registers from spilling.)
+            if constexpr (Dim == 1) {
+              const Vec<Dim> tI = SiOwn * (rj.s * gI), tJ = sOverRho_[j] * (sI * gJ);
               ai.noalias() += mj * (tI + tJ);
               dei -= mj * vij.dot(tI);
+            } else {
+              const Vec<Dim> tI = SiOwn * gI, tJ = sOverRho_[j] * gJ;
+              if (product) {
+                ai.noalias() += rj.vol * tI + (mj * sI) * tJ;
+                dei -= rj.vol * vij.dot(tI);
+              } else {
+                ai.noalias() += mj * (tI + tJ);
+                dei -= mj * vij.dot(tI);
+              }
             }
             Li.noalias() -= rj.vol * (vij * gI.transpose());
             if (artificialStress) {
@@ -391,7 +413,7 @@ private:
         // symmetric Eq. 21 (total energy is conserved exactly either way), but Eq. 21's even
         // split charges a cold particle for the work of a hot neighbour pushing it away, which
         // drives e negative around a point blast (Sedov: e down to -60 at 20 steps).
-        const double own = product ? pOwn / (rhoi * rhoj) : pOverRho2Own;
+        const double own = qOwn * sij;
         if constexpr (Corrected)
           dei += mj * (own * vij.dot(gI) + 0.5 * Pij * vgrad);
         else
@@ -463,7 +485,9 @@ private:
   SolverConfig cfg_;
   std::vector<bool> solid_; // by material: has strength
   struct RowScratch {
-    double hInv, gradNorm, vol, pOverRho2;
+    double hInv, gradNorm, vol;
+    double q, s;    // the pressure term's per-row factors (see ratesLoop)
+    double balsara; // Balsara (1995) factor, 1 when the switch is off
   };
   std::vector<RowScratch> rowScratch_;        // scratch of the force loop
   std::vector<Tensor<Dim>> sOverRho_;         // scratch of the force loop (solids)

@@ -25,13 +25,13 @@ inline double balsaraFactor(double div, double curl, double c, double h) {
   return ad / (ad + curl + 1.0e-4 * c / h + 1e-300);
 }
 
-// Lam et al. (2001) Eq. 20, its isotropic part per unit m_j grad W:
-// p_i/rho_i^2 + p_j/rho_j^2 + Pi_ij, or in the product form (p_i + p_j)/(rho_i rho_j) + Pi_ij
-// (stable where heavy particles meet light ones under tension: copper on PMMA, density ratio 8).
-// pOverRho2i/j are p/rho^2 of each side, precomputed.
-inline double pressureTerm(bool product, double pi, double pj, double rhoi, double rhoj,
-                           double pOverRho2i, double pOverRho2j, double Pij) {
-  return (product ? (pi + pj) / (rhoi * rhoj) : pOverRho2i + pOverRho2j) + Pij;
+// Lam et al. (2001) Eq. 20, its isotropic part per unit m_j grad W: p_i/rho_i^2 + p_j/rho_j^2 +
+// Pi_ij, or in the product form (p_i + p_j)/(rho_i rho_j) + Pi_ij (stable where heavy particles
+// meet light ones under tension: copper on PMMA, density ratio 8). With the per-particle factors
+// q = p/rho^2, s = 1 (rho^2 form) or q = p, s = 1/rho (product form) both are
+// (q_i + q_j) s_i s_j + Pi_ij; sij = s_i s_j.
+inline double pressureTerm(double qi, double qj, double sij, double Pij) {
+  return (qi + qj) * sij + Pij;
 }
 
 // Gray, Monaghan & Swift (2001): in the principal frame of the Cauchy stress sigma = S - p I,
