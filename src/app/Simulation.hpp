@@ -1,9 +1,9 @@
 #pragma once
 // A run of one dimension: the particles, the method that steps them, and the run loop around
 // it (time, output, checkpoints, signals). The run loop knows nothing of how the method steps.
-// Its members are defined by job: Simulation.cpp (set-up, new run, restart, checkpoint state),
-// RunLoop.cpp (the loop, checkpoints), RunOutput.cpp (snapshots, history, probes, banner),
-// RunSummary.cpp (closing summary and summary.json).
+// Its members are defined by job: Simulation.cpp (set-up, new run, restart, checkpoint state, the
+// loop), RunOutput.cpp (snapshots, history, probes, banner, the closing summary and
+// summary.json).
 #include "spall/app/BodyGenerator.hpp"
 #include "spall/app/CheckpointFiles.hpp"
 #include "spall/app/Run.hpp"
@@ -49,12 +49,12 @@ public:
   double firstTimeStep() const;
 
 private:
-  // RunLoop.cpp
+  // Simulation.cpp: the loop
   double nextTimeStep();
   double clampToTargets(double dt) const;
   void checkpoint(double dtNext, Clock::time_point wall0);
   int checkpointKeep() const { return deck_.checkpoint ? deck_.checkpoint->keep : 2; }
-  // Simulation.cpp
+  // Simulation.cpp: checkpoint state
   io::CheckpointState saveState(double dtNext, double wall) const;
   void restoreState(const io::CheckpointHeader& h, bool sameLayout);
   // RunOutput.cpp
@@ -64,7 +64,7 @@ private:
   void writeSnapshot();
   void record(double dt, std::int64_t step, Clock::time_point wall0);
   void banner(RunLog& log, const std::filesystem::path& dir);
-  // RunSummary.cpp
+  // RunOutput.cpp: the closing summary
   void finish(RunLog& log, const RunOptions& options, Clock::time_point wall0, int stopSignal);
 
   const Deck& deck_;

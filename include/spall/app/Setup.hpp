@@ -4,7 +4,7 @@
 #include "spall/io/Deck.hpp"
 #include "spall/materials/MaterialUpdate.hpp"
 #include "spall/methods/Module.hpp"
-#include "spall/methods/SphMethod.hpp"
+#include "spall/methods/SphSetup.hpp"
 
 #include <memory>
 #include <vector>

@@ -7,6 +7,7 @@
 #include "spall/materials/MaterialUpdate.hpp"
 #include "spall/methods/Method.hpp"
 #include "spall/methods/Module.hpp"
+#include "spall/methods/SphSetup.hpp"
 #include "spall/neighbors/NeighborList.hpp"
 #include "spall/parallel/Decomposition.hpp"
 #include "spall/parallel/HaloExchange.hpp"
@@ -20,14 +21,6 @@
 #include <vector>
 
 namespace spall::methods {
-
-struct SphSetup {
-  SolverConfig solver;
-  std::vector<BoundaryConfig> boundaries;
-  bool reproducible = true;                     // neighbor sums in a rank-count-independent order
-  double imbalanceThreshold = 1.1;              // a rebalance above it is worth a note
-  std::function<void(const std::string&)> note; // a line for the run log (may be empty)
-};
 
 template <int Dim> class SphMethod final : public Method<Dim> {
 public:

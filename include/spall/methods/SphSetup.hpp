@@ -1,0 +1,19 @@
+#pragma once
+// What SphMethod is configured with (app/Setup fills it from the deck).
+#include "spall/solvers/Config.hpp"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace spall::methods {
+
+struct SphSetup {
+  SolverConfig solver;
+  std::vector<BoundaryConfig> boundaries;
+  bool reproducible = true;                     // neighbor sums in a rank-count-independent order
+  double imbalanceThreshold = 1.1;              // a rebalance above it is worth a note
+  std::function<void(const std::string&)> note; // a line for the run log (may be empty)
+};
+
+} // namespace spall::methods
