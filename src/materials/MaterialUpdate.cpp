@@ -1,7 +1,5 @@
 #include "spall/materials/MaterialUpdate.hpp"
 
-#include <algorithm>
-
 namespace spall::materials {
 
 namespace {
@@ -9,11 +7,6 @@ double shearModulusOf(const Material& m) {
   return m.strength ? std::visit([](const auto& s) { return s.shearModulus(); }, *m.strength) : 0.0;
 }
 } // namespace
-
-bool MaterialUpdate::anyStrength() const {
-  return std::any_of(materials_.begin(), materials_.end(),
-                     [](const Material& m) { return m.strength.has_value(); });
-}
 
 // One visit per material, then a plain loop over its particles: no dispatch per particle.
 void MaterialUpdate::evaluate(const MaterialFields& f) const {

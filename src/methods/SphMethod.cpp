@@ -33,8 +33,9 @@ SphMethod<Dim>::SphMethod(const parallel::MpiContext& mpi, SphSetup setup,
 template <int Dim> void SphMethod<Dim>::advance(double dt, std::int64_t step, double time) {
   stats_.phases.time(kIntegration, [&] {
     kickDrift(dt);
-    // S_{n+1} from S_n and the last velocity gradient (explicit, like the drift), then p and cs:
-    // the force evaluation below sees the new stress and pressure.
+    // S_{n+1} from S_n and the last velocity gradient (explicit, like the drift), then p and cs
+    // of the drifted state: the force evaluation below sees the new stress, and the new pressure
+    // (with summation density, the density pass recomputes it from the new density).
     materials_.update(materialFields(), dt);
     s_.swapValues(f_.a, f_.aOld);
     s_.swapValues(f_.dedt, f_.dedtOld);

@@ -306,9 +306,9 @@ private:
           hbarOverR = 0.5 * (etaIInv + etaJInv);
           qMean = 0.5 * (etaI + etaJ);
           // Owen (2010), Eqs. 1 and 5 with W^H = |dW/deta| (Sec. II-C); the second moments of the
-          // neighbor directions (see updateSmoothingTensor), both as sums of x x^T: the eta-frame
-          // one is H_i (sum w^2 x x^T) H_i, applied once per particle. W^H = 0 outside i's
-          // support, so a neighbor that only j's support reaches adds nothing (no branch).
+          // neighbor directions (see idealHTensor, solvers/IdealH.hpp), both as sums of x x^T: the
+          // eta-frame one is H_i (sum w^2 x x^T) H_i, applied once per particle. W^H = 0 outside
+          // i's support, so a neighbor that only j's support reaches adds nothing (no branch).
           const double wH = sigma * std::abs(dfI);
           sumWHi += wH;
           // w^2 e e^T = (W^H/eta^(nu-1))^2 e^ e^T; W^H^2 x^ x^ / r^2: closer is heavier.

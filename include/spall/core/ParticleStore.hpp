@@ -24,7 +24,8 @@ enum class ScalarType { F64, U64, I32 };
 enum FieldFlag : unsigned {
   kOutput = 1u << 0,     // written to snapshots when the deck asks for it (default: all)
   kCheckpoint = 1u << 1, // part of the restartable state
-  kHalo = 1u << 2,       // read of ghosts by the neighbor search or a pair loop: sent with each
+  kHalo = 1u << 2,       // read of ghosts by the neighbor search or a pair loop: sent to them
+                         // by every halo build
   kRefresh = 1u << 3,    // changed by the density pass (summation, EOS) after the ghosts were
                          // made: sent to them again before the force loop
   // What a rigid wall's mirror image does to the field (P = I - 2 n n^T); unflagged fields are

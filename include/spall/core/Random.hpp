@@ -24,9 +24,4 @@ inline double hashedUniform(std::uint64_t seed, std::uint64_t id, std::uint64_t 
   return 2.0 * static_cast<double>(hashedBits(seed, id, stream) >> 11) * 0x1.0p-53 - 1.0;
 }
 
-// A uniform deviate in [0, 1) from (seed, id, stream).
-inline double hashedUnit(std::uint64_t seed, std::uint64_t id, std::uint64_t stream) {
-  return static_cast<double>(hashedBits(seed, id, stream) >> 11) * 0x1.0p-53;
-}
-
 } // namespace spall

@@ -49,7 +49,6 @@ public:
   explicit MaterialUpdate(std::vector<Material> materials) : materials_(std::move(materials)) {}
 
   const std::vector<Material>& materials() const { return materials_; }
-  bool anyStrength() const;
   // p and cs from (rho, e): no history advances.
   void evaluate(const MaterialFields& f) const;
   // S, plastic strain and temperature over dt from L (materials with strength), then p and cs.

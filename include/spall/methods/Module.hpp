@@ -12,7 +12,6 @@ namespace spall::methods {
 template <int Dim> class Module {
 public:
   virtual ~Module() = default;
-  virtual const char* name() const = 0;
   // Registers the module's fields in the store and records their handles in f.
   virtual void registerFields(ParticleStore& s, ParticleFields<Dim>& f) = 0;
   // A new run at t = 0, after the bodies are made: initial values of the owned particles.

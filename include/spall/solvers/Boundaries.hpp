@@ -21,7 +21,6 @@ public:
   Boundaries(const std::vector<BoundaryConfig>& config, const ParticleStore& s,
              const ParticleFields<Dim>& f);
 
-  bool hasWalls() const { return !walls_.empty(); }
   // Maps owned particles that left a periodic box back into it.
   void wrapPeriodic(ParticleStore& s) const;
   // Appends the mirror image of every particle (owned or ghost) within `reach` of a wall.

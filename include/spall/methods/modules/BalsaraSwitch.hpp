@@ -8,7 +8,6 @@ namespace spall::methods {
 
 template <int Dim> class BalsaraSwitch final : public Module<Dim> {
 public:
-  const char* name() const override { return "balsara_switch"; }
   void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override { f.registerBalsara(s); }
 };
 

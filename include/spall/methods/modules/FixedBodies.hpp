@@ -14,7 +14,6 @@ public:
   explicit FixedBodies(std::vector<std::int32_t> bodies) : bodies_(std::move(bodies)) {
     std::sort(bodies_.begin(), bodies_.end());
   }
-  const char* name() const override { return "fixed_bodies"; }
   void registerFields(ParticleStore& /*s*/, ParticleFields<Dim>& /*f*/) override {}
   void afterRates(ParticleStore& s, const ParticleFields<Dim>& f) const override {
     const auto body = s[f.body];

@@ -7,7 +7,6 @@ namespace spall::methods {
 
 template <int Dim> class FrictionlessContact final : public Module<Dim> {
 public:
-  const char* name() const override { return "frictionless_contact"; }
   void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override {
     s.addFlags(f.body.index, kHalo);
   }

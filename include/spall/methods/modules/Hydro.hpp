@@ -7,7 +7,6 @@ namespace spall::methods {
 
 template <int Dim> class Hydro final : public Module<Dim> {
 public:
-  const char* name() const override { return "hydro"; }
   void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override { f.registerCommon(s); }
 };
 

@@ -8,7 +8,6 @@ namespace spall::methods {
 
 template <int Dim> class KernelCorrection final : public Module<Dim> {
 public:
-  const char* name() const override { return "kernel_correction"; }
   void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override {
     f.registerKernelCorrection(s);
   }

@@ -7,7 +7,6 @@ namespace spall::methods {
 
 template <int Dim> class SmoothingTensor final : public Module<Dim> {
 public:
-  const char* name() const override { return "smoothing_tensor"; }
   void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override {
     f.registerSmoothingTensor(s);
   }

@@ -11,7 +11,6 @@ namespace spall::methods {
 template <int Dim> class Strength final : public Module<Dim> {
 public:
   explicit Strength(std::vector<double> roomTemperature) : T0_(std::move(roomTemperature)) {}
-  const char* name() const override { return "strength"; }
   void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override { f.registerStrength(s); }
   void initialise(ParticleStore& s, const ParticleFields<Dim>& f) const override {
     const auto mat = s[f.material];
