@@ -20,7 +20,7 @@ namespace fs = std::filesystem;
 
 template <int Dim>
 Simulation<Dim>::Simulation(const Deck& deck, const parallel::MpiContext& mpi)
-    : deck_(deck), mpi_(mpi) {
+    : deck_(deck), mpi_(mpi), materials_(buildMaterials(deck)) {
   for (const auto& b : deck.bodies) {
     if (b.insert_time > 0.0)
       throw DeckError(b.where, fmt::format("body '{}': insert_time arrives with the penetration "
@@ -49,15 +49,15 @@ Simulation<Dim>::Simulation(const Deck& deck, const parallel::MpiContext& mpi)
     if (log_) log_->note(line);
   };
   method_ = std::make_unique<methods::SphMethod<Dim>>(
-      mpi, std::move(setup), materials::MaterialUpdate(buildMaterials(deck)), std::move(modules),
-      store_, f_, cost_, *decomposition_);
+      mpi, std::move(setup), materials::MaterialUpdate(materials_), std::move(modules), store_, f_,
+      cost_, *decomposition_);
   probes_ = std::make_unique<diagnostics::Probes<Dim>>(deck.probes);
   resolveOutputFields();
 }
 
 template <int Dim> void Simulation<Dim>::generate() {
   std::vector<materials::Eos> eos;
-  for (const auto& m : buildMaterials(deck_)) eos.push_back(m.eos);
+  for (const auto& m : materials_) eos.push_back(m.eos);
   bodies_ = generateBodies<Dim>(deck_, eos, store_, f_);
   applyEnergySources<Dim>(deck_, store_, f_);
   decomposition_->distributeInitial(store_);

@@ -13,6 +13,7 @@
 #include "spall/diagnostics/Probes.hpp"
 #include "spall/io/Checkpoint.hpp"
 #include "spall/io/CsvLog.hpp"
+#include "spall/materials/MaterialUpdate.hpp"
 #include "spall/methods/Method.hpp"
 #include "spall/parallel/Decomposition.hpp"
 
@@ -69,6 +70,7 @@ private:
 
   const Deck& deck_;
   const parallel::MpiContext& mpi_;
+  std::vector<materials::Material> materials_; // by deck index; the method gets a copy
   ParticleStore store_;
   ParticleFields<Dim> f_;
   Field<std::int32_t> cost_; // neighbors per particle: the load-balancing cost

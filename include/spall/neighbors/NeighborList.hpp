@@ -347,30 +347,18 @@ bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
 
 // Compiled once, in src/neighbors/NeighborList.cpp: its code (what the compiler inlines into the
 // search) does not depend on the file that calls it.
-extern template bool buildNeighborList<1, false>(std::span<const Vec<1>>, std::span<const double>,
-                                                 std::span<const Tensor<1>>, std::size_t, double,
-                                                 CellGrid<1>&, NeighborList&,
-                                                 const CanonicalOrder<1>*);
-extern template bool buildNeighborList<2, false>(std::span<const Vec<2>>, std::span<const double>,
-                                                 std::span<const Tensor<2>>, std::size_t, double,
-                                                 CellGrid<2>&, NeighborList&,
-                                                 const CanonicalOrder<2>*);
-extern template bool buildNeighborList<3, false>(std::span<const Vec<3>>, std::span<const double>,
-                                                 std::span<const Tensor<3>>, std::size_t, double,
-                                                 CellGrid<3>&, NeighborList&,
-                                                 const CanonicalOrder<3>*);
-extern template bool buildNeighborList<1, true>(std::span<const Vec<1>>, std::span<const double>,
-                                                std::span<const Tensor<1>>, std::size_t, double,
-                                                CellGrid<1>&, NeighborList&,
-                                                const CanonicalOrder<1>*);
-extern template bool buildNeighborList<2, true>(std::span<const Vec<2>>, std::span<const double>,
-                                                std::span<const Tensor<2>>, std::size_t, double,
-                                                CellGrid<2>&, NeighborList&,
-                                                const CanonicalOrder<2>*);
-extern template bool buildNeighborList<3, true>(std::span<const Vec<3>>, std::span<const double>,
-                                                std::span<const Tensor<3>>, std::size_t, double,
-                                                CellGrid<3>&, NeighborList&,
-                                                const CanonicalOrder<3>*);
+#define SPALL_NEIGHBOR_SEARCH(PREFIX, D, E)                                                        \
+  PREFIX template bool buildNeighborList<D, E>(                                                    \
+      std::span<const Vec<D>>, std::span<const double>, std::span<const Tensor<D>>, std::size_t,   \
+      double, CellGrid<D>&, NeighborList&, const CanonicalOrder<D>*);
+#define SPALL_NEIGHBOR_SEARCHES(PREFIX)                                                            \
+  SPALL_NEIGHBOR_SEARCH(PREFIX, 1, false)                                                          \
+  SPALL_NEIGHBOR_SEARCH(PREFIX, 2, false)                                                          \
+  SPALL_NEIGHBOR_SEARCH(PREFIX, 3, false)                                                          \
+  SPALL_NEIGHBOR_SEARCH(PREFIX, 1, true)                                                           \
+  SPALL_NEIGHBOR_SEARCH(PREFIX, 2, true)                                                           \
+  SPALL_NEIGHBOR_SEARCH(PREFIX, 3, true)
+SPALL_NEIGHBOR_SEARCHES(extern)
 
 } // namespace detail
 
