@@ -1,7 +1,10 @@
 #include "spall/app/RunLog.hpp"
 
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fmt/format.h>
+#include <string_view>
 #include <unistd.h>
 
 namespace spall::app {
@@ -15,7 +18,24 @@ std::string duration(double s) {
 }
 } // namespace
 
-RunLog::RunLog(bool enabled) : enabled_(enabled), tty_(isatty(fileno(stdout)) != 0) {}
+RunLog::RunLog(bool enabled, double seconds, double percent)
+    : enabled_(enabled), tty_(enabled && stdoutIsTerminal()), seconds_(seconds), percent_(percent) {
+}
+
+bool RunLog::stdoutIsTerminal() {
+  if (isatty(fileno(stdout)) == 0) return false;
+  const bool launched = std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMIX_RANK") ||
+                        std::getenv("PMI_RANK") || std::getenv("SLURM_STEP_ID");
+  if (!launched) return true;
+  // The launcher is our parent on its own node (mpirun, srun's step daemon elsewhere): its fd 1
+  // is what the user sees. Anything else (a remote daemon, no /proc) counts as a batch log.
+  char target[256] = {};
+  const std::string link = "/proc/" + std::to_string(getppid()) + "/fd/1";
+  const ssize_t n = readlink(link.c_str(), target, sizeof target - 1);
+  if (n <= 0) return false;
+  const std::string_view t(target, static_cast<std::size_t>(n));
+  return t.starts_with("/dev/pts/") || t.starts_with("/dev/tty");
+}
 
 void RunLog::banner(const std::vector<std::string>& lines) {
   if (!enabled_) return;
@@ -30,11 +50,15 @@ void RunLog::warning(const std::string& text) {
 void RunLog::progress(long long step, double time, double endTime, double dt, std::size_t particles,
                       double wall, const std::string& extra) {
   if (!enabled_) return;
-  // Terminal: redraw at most 5 times a second. Batch log: a line every 10 s.
-  const double every = tty_ ? 0.2 : 10.0;
-  if (wall - lastPrint_ < every) return;
-  lastPrint_ = wall;
   const double fraction = endTime > 0.0 ? time / endTime : 0.0;
+  // Terminal: redraw at most 5 times a second. Batch log: every seconds_, and whenever the run
+  // crosses a multiple of percent_.
+  const bool byPercent =
+      !tty_ && percent_ > 0.0 &&
+      std::floor(100.0 * fraction / percent_) > std::floor(100.0 * lastFraction_ / percent_);
+  if (wall - lastPrint_ < (tty_ ? 0.2 : seconds_) && !byPercent) return;
+  lastPrint_ = wall;
+  lastFraction_ = fraction;
   const double eta = fraction > 0.0 ? wall * (1.0 - fraction) / fraction : -1.0;
   const std::string line =
       fmt::format("step {:>8}  t {:.4e} s ({:5.1f}%)  dt {:.3e}  N {}  wall {}  ETA {}", step, time,

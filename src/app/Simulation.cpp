@@ -252,7 +252,8 @@ void Simulation<Dim>::restoreState(const io::CheckpointHeader& h, bool sameLayou
 // ---- the run loop: time, output and checkpoint triggers, signals ----------------------------
 
 template <int Dim> void Simulation<Dim>::run(const RunOptions& options, const fs::path& dir) {
-  RunLog log(mpi_.root() && !options.quiet);
+  RunLog log(mpi_.root() && !options.quiet, deck_.output.progress_seconds,
+             deck_.output.progress_percent);
   log_ = &log;
   const auto wall0 = Clock::now();
   for (const auto& w : deferredWarnings_) log.warning(w);
@@ -272,55 +273,58 @@ template <int Dim> void Simulation<Dim>::run(const RunOptions& options, const fs
   StopSignals signals;
   double dt = 0.0;
   startStep_ = step_;
-  if (resumed) {
-    // The rates and the time step of the checkpointed step: no evaluation here, so the run
-    // continues exactly as the uninterrupted one.
-    dt = resumeDt_;
-    last_ = diagnostics::computeTotals(store_, f_, mpi_);
-  } else {
-    probes_->attach(store_, f_, mpi_);
-    method_->evaluate(step_);
-    dt = nextTimeStep();
-    totals0_ = diagnostics::computeTotals(store_, f_, mpi_);
-    record(0.0, 0, wall0);
-    writeSnapshot();
-  }
-  lastCheckpointWall_ = wall0;
-
   const double end = deck_.run.end_time;
-  double lastProgress = -1.0;
   int stopSignal = 0;
-  if (resumed && !(time_ < end * (1.0 - 1e-12) && step_ < deck_.run.max_steps))
-    log.note(fmt::format("the checkpoint is at the end of this run (t = {:.6g} s, step {}): "
-                         "nothing to do; extend it with --set run.end_time=...",
-                         time_, step_));
-  while (time_ < end * (1.0 - 1e-12) && step_ < deck_.run.max_steps) {
-    dt = clampToTargets(dt);
-    method_->advance(dt, step_, time_);
-    time_ += dt;
-    ++step_;
-    record(dt, step_, wall0);
-    if (snapshotDue()) writeSnapshot();
-    const double wall = std::chrono::duration<double>(Clock::now() - wall0).count();
-    if (wall - lastProgress > 0.0) {
+  // A failed step (StepFailure, the same on every rank) is explained by explainFailure.
+  try {
+    if (resumed) {
+      // The rates and the time step of the checkpointed step: no evaluation here, so the run
+      // continues exactly as the uninterrupted one.
+      dt = resumeDt_;
+      last_ = diagnostics::computeTotals(store_, f_, mpi_);
+    } else {
+      probes_->attach(store_, f_, mpi_);
+      method_->evaluate(step_);
+      dt = nextTimeStep();
+      totals0_ = diagnostics::computeTotals(store_, f_, mpi_);
+      record(0.0, 0, wall0);
+      writeSnapshot();
+    }
+    lastCheckpointWall_ = wall0;
+    if (resumed && !(time_ < end * (1.0 - 1e-12) && step_ < deck_.run.max_steps))
+      log.note(fmt::format("the checkpoint is at the end of this run (t = {:.6g} s, step {}): "
+                           "nothing to do; extend it with --set run.end_time=...",
+                           time_, step_));
+    keepRescuePoint(dt, wall0);
+    while (time_ < end * (1.0 - 1e-12) && step_ < deck_.run.max_steps) {
+      dt = stepOnce(dt, wall0, false);
+      watchTimeStep(dt);
+      const double wall = std::chrono::duration<double>(Clock::now() - wall0).count();
       log.progress(step_, time_, end, dt, particles(), wall,
                    mpi_.size() > 1 ? fmt::format("  imbalance {:.2f}", method_->stats().imbalance)
                                    : "");
-      lastProgress = wall;
+      // Checkpoint triggers, agreed on by all ranks: a signal on any rank, rank 0's wall clock.
+      int due[2] = {StopSignals::pending(), 0};
+      if (mpi_.root() && deck_.checkpoint && deck_.checkpoint->every_wall_seconds > 0.0)
+        due[1] = std::chrono::duration<double>(Clock::now() - lastCheckpointWall_).count() >=
+                 deck_.checkpoint->every_wall_seconds;
+      MPI_Allreduce(MPI_IN_PLACE, due, 2, MPI_INT, MPI_MAX, mpi_.comm());
+      const bool stepsDue = deck_.checkpoint && deck_.checkpoint->every_steps > 0 &&
+                            step_ % deck_.checkpoint->every_steps == 0;
+      if (due[0] || due[1] || stepsDue) checkpoint(dt, wall0);
+      if (due[0]) {
+        stopSignal = due[0];
+        break;
+      }
+      if (deck_.output.failure_history > 0 && step_ % deck_.output.failure_history == 0)
+        keepRescuePoint(dt, wall0);
     }
-    dt = nextTimeStep();
-    // Checkpoint triggers, agreed on by all ranks: a signal on any rank, rank 0's wall clock.
-    int due[2] = {StopSignals::pending(), 0};
-    if (mpi_.root() && deck_.checkpoint && deck_.checkpoint->every_wall_seconds > 0.0)
-      due[1] = std::chrono::duration<double>(Clock::now() - lastCheckpointWall_).count() >=
-               deck_.checkpoint->every_wall_seconds;
-    MPI_Allreduce(MPI_IN_PLACE, due, 2, MPI_INT, MPI_MAX, mpi_.comm());
-    const bool stepsDue = deck_.checkpoint && deck_.checkpoint->every_steps > 0 &&
-                          step_ % deck_.checkpoint->every_steps == 0;
-    if (due[0] || due[1] || stepsDue) checkpoint(dt, wall0);
-    if (due[0]) {
-      stopSignal = due[0];
-      break;
+  } catch (const StepFailure& failure) {
+    try {
+      explainFailure(failure, wall0);
+    } catch (...) {
+      log_ = nullptr;
+      throw;
     }
   }
   if (!stopSignal) {
@@ -332,6 +336,19 @@ template <int Dim> void Simulation<Dim>::run(const RunOptions& options, const fs
   probesCsv_.flush();
   finish(log, options, wall0, stopSignal);
   log_ = nullptr;
+}
+
+// One step of the loop: advance, the snapshot due at the new time, the next stable dt. A replay
+// (RunFailure.cpp) steps again through steps already logged: no history rows.
+template <int Dim>
+double Simulation<Dim>::stepOnce(double dt, Clock::time_point wall0, bool replay) {
+  dt = clampToTargets(dt);
+  method_->advance(dt, step_, time_);
+  time_ += dt;
+  ++step_;
+  if (!replay) record(dt, step_, wall0);
+  if (snapshotDue()) writeSnapshot();
+  return nextTimeStep();
 }
 
 // The method's stable step; a step below 1e-14 of the end time is a collapse.

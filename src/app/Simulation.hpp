@@ -3,7 +3,8 @@
 // it (time, output, checkpoints, signals). The run loop knows nothing of how the method steps.
 // Its members are defined by job: Simulation.cpp (set-up, new run, restart, checkpoint state, the
 // loop), RunOutput.cpp (snapshots, history, probes, banner, the closing summary and
-// summary.json).
+// summary.json), RunFailure.cpp (the rescue point, the replay and message of a failed step, the
+// time-step warning).
 #include "spall/app/BodyGenerator.hpp"
 #include "spall/app/CheckpointFiles.hpp"
 #include "spall/app/Run.hpp"
@@ -18,6 +19,7 @@
 #include "spall/parallel/Decomposition.hpp"
 
 #include <chrono>
+#include <deque>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -51,10 +53,15 @@ public:
 
 private:
   // Simulation.cpp: the loop
+  double stepOnce(double dt, Clock::time_point wall0, bool replay);
   double nextTimeStep();
   double clampToTargets(double dt) const;
   void checkpoint(double dtNext, Clock::time_point wall0);
   int checkpointKeep() const { return deck_.checkpoint ? deck_.checkpoint->keep : 2; }
+  // RunFailure.cpp
+  void keepRescuePoint(double dtNext, Clock::time_point wall0);
+  [[noreturn]] void explainFailure(const StepFailure& failure, Clock::time_point wall0);
+  void watchTimeStep(double dt);
   // Simulation.cpp: checkpoint state
   io::CheckpointState saveState(double dtNext, double wall) const;
   void restoreState(const io::CheckpointHeader& h, bool sameLayout);
@@ -102,6 +109,17 @@ private:
   int checkpointsWritten_ = 0, checkpointRanks_ = 0;
   std::uint64_t checkpointBytes_ = 0, checkpointWriteBytes_ = 0, checkpointReadBytes_ = 0;
   double checkpointWriteSeconds_ = 0.0, checkpointReadSeconds_ = 0.0;
+  // The state to rewind to when a step fails (RunFailure.cpp).
+  struct RescuePoint {
+    ParticleStore::RowsCopy rows;
+    io::CheckpointState state;
+    double time = 0.0;
+    std::int64_t step = 0;
+    bool valid = false;
+  } rescue_;
+  std::deque<double> recentDt_;
+  bool dtLow_ = false;
+  int dtWarnings_ = 0;
 };
 
 } // namespace spall::app

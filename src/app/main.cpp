@@ -90,8 +90,9 @@ int main(int argc, char** argv) {
   } catch (const spall::UsageError& e) {
     return fail(mpi, 2, std::string("error: ") + e.what());
   } catch (const spall::RunError& e) {
-    // Run failures are detected collectively (global reductions), so every rank gets here.
-    if (mpi.size() == 1) return fail(mpi, 1, std::string("error: ") + e.what());
+    // Run failures are detected collectively (global reductions), so every rank gets here. A
+    // failed step's explanation is the same on every rank: rank 0 prints it.
+    if (mpi.size() == 1 || e.isCollective()) return fail(mpi, 1, std::string("error: ") + e.what());
     fmt::print(stderr, "error (rank {}): {}\n", mpi.rank(), e.what());
     return 1;
   } catch (const std::exception& e) {

@@ -474,6 +474,16 @@ void DeckReader::readOutput(const TableReader& r, OutputConfig& o) const {
   o.history_every_steps = r.integer("history_every_steps").value_or(1);
   r.check(o.history_every_steps >= 1, "history_every_steps", ">= 1",
           static_cast<double>(o.history_every_steps));
+  o.progress_seconds = r.number("progress_seconds").value_or(o.progress_seconds);
+  r.check(o.progress_seconds > 0.0, "progress_seconds", "> 0", o.progress_seconds);
+  o.progress_percent = r.number("progress_percent").value_or(o.progress_percent);
+  r.check(o.progress_percent >= 0.0 && o.progress_percent <= 100.0, "progress_percent",
+          "in [0, 100]", o.progress_percent);
+  o.failure_history = r.integer("failure_history").value_or(o.failure_history);
+  r.check(o.failure_history >= 0 && o.failure_history <= 100000, "failure_history",
+          "in [0, 100000] steps", static_cast<double>(o.failure_history));
+  o.dt_warning = r.number("dt_warning").value_or(o.dt_warning);
+  r.check(o.dt_warning >= 0.0 && o.dt_warning < 1.0, "dt_warning", "in [0, 1)", o.dt_warning);
 }
 
 void DeckReader::readCheckpoint(const TableReader& r, CheckpointConfig& c) const {

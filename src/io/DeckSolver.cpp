@@ -21,16 +21,24 @@ void readSolver(const TableReader& r, SolverConfig& s) {
   s.density = density == "summation"              ? DensityMethod::Summation
               : density == "normalized_summation" ? DensityMethod::NormalizedSummation
                                                   : DensityMethod::Continuity;
+  // The product form by default: the stability matrix (tools/stress) runs every impact of
+  // unlike materials with it, and none of them with rho_squared (decks/README.md).
   s.stress_form =
-      r.choice("stress_form", {"rho_squared", "rho_product"}, "rho_squared") == "rho_product"
-          ? StressForm::RhoProduct
-          : StressForm::RhoSquared;
+      r.choice("stress_form", {"rho_squared", "rho_product"}, "rho_product") == "rho_squared"
+          ? StressForm::RhoSquared
+          : StressForm::RhoProduct;
   if (const auto v = r.number("nodes_per_h")) {
     r.check(*v > 0.0, "nodes_per_h", "> 0", *v);
     s.nodes_per_h = *v;
   }
+  // cfl above 1 is unstable by construction; a stability test may ask for it explicitly.
+  const bool unstable = r.boolean("allow_unstable_cfl").value_or(false);
   if (const auto v = r.number("cfl")) {
-    r.check(*v > 0.0 && *v <= 1.0, "cfl", "in (0, 1]", *v);
+    if (unstable)
+      r.check(*v > 0.0 && *v <= 10.0, "cfl", "in (0, 10] (allow_unstable_cfl)", *v);
+    else
+      r.check(*v > 0.0 && *v <= 1.0, "cfl",
+              "in (0, 1] (above 1 is unstable; allow_unstable_cfl = true runs it anyway)", *v);
     s.cfl = *v;
   }
   if (const auto* t = r.subtable("artificial_viscosity")) {

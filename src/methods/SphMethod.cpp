@@ -5,6 +5,7 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
+#include <type_traits>
 
 namespace spall::methods {
 
@@ -249,58 +250,126 @@ template <int Dim>
 double SphMethod<Dim>::stableTimeStep(double floor, std::int64_t step, double time) {
   const auto [dtLocal, which] = solver_->stableTimeStep();
   const double dt = mpi_.min(dtLocal);
-  if (!(dt > floor) || !std::isfinite(dt)) {
-    std::string who = "no particle";
-    if (dtLocal == dt && s_.localCount() > 0) {
-      who = fmt::format(
-          "particle id {} (h = {:.3e} m, sound speed {:.3e} m/s, density {:.3e} kg/m^3)",
-          s_[f_.id][which], s_[f_.h][which], s_[f_.cs][which], s_[f_.rho][which]);
-    }
-    throw RunError(
-        fmt::format("time step collapsed to {:.3e} s at step {} (t = {:.6e} s), set by {}", dt,
-                    step, time, who));
-  }
-  return dt;
+  if (dt > floor && std::isfinite(dt)) return dt;
+  // The lowest id among the particles that set the step, wherever they are.
+  const bool setter = dtLocal == dt && s_.localCount() > 0;
+  const ParticleId mine = setter ? s_[f_.id][which] : std::numeric_limits<ParticleId>::max();
+  ParticleReport fault;
+  fault.kind = ParticleReport::Kind::Collapse;
+  fault.step = step;
+  fault.time = time;
+  fault.dt = dt;
+  raise(fault, mine, which);
 }
 
 template <int Dim> void SphMethod<Dim>::checkFinite(std::int64_t step, double time) const {
   const auto id = s_[f_.id];
-  const auto x = s_[f_.x];
-  const auto v = s_[f_.v];
-  const auto e = s_[f_.e];
-  const auto rho = s_[f_.rho];
-  const auto h = s_[f_.h];
   ParticleId bad = std::numeric_limits<ParticleId>::max();
-  int field = 0;
-  for (std::size_t i = 0; i < s_.localCount() && bad == std::numeric_limits<ParticleId>::max();
-       ++i) {
-    int fld = 0;
-    if (!x[i].allFinite())
-      fld = 1;
-    else if (!v[i].allFinite())
-      fld = 2;
-    else if (!std::isfinite(e[i]))
-      fld = 3;
-    else if (!(rho[i] > 0.0) || !std::isfinite(rho[i]))
-      fld = 4;
-    else if (!(h[i] > 0.0) || !std::isfinite(h[i]))
-      fld = 5;
-    if (fld) bad = id[i], field = fld;
-  }
+  std::size_t row = 0;
+  for (std::size_t i = 0; i < s_.localCount(); ++i)
+    if (id[i] < bad && !badFields(i).empty()) bad = id[i], row = i;
   ParticleId first;
   MPI_Allreduce(&bad, &first, 1, MPI_UINT64_T, MPI_MIN, mpi_.comm());
   if (first == std::numeric_limits<ParticleId>::max()) return;
-  int code = first == bad ? field : 0, fieldCode = 0;
-  MPI_Allreduce(&code, &fieldCode, 1, MPI_INT, MPI_MAX, mpi_.comm());
-  static const char* names[] = {"",
-                                "position",
-                                "velocity",
-                                "specific_internal_energy",
-                                "density (non-positive or non-finite)",
-                                "smoothing_length"};
-  throw RunError(
-      fmt::format("non-finite state: field '{}' of particle id {} at step {} (t = {:.6e} s)",
-                  names[fieldCode], first, step, time));
+  ParticleReport fault;
+  fault.kind = ParticleReport::Kind::NonFinite;
+  fault.step = step;
+  fault.time = time;
+  raise(fault, bad, row);
+}
+
+// The fields of owned row i that no state can have: non-finite values, a density or smoothing
+// length that is not positive.
+template <int Dim> std::string SphMethod<Dim>::badFields(std::size_t i) const {
+  std::string out;
+  const auto add = [&out](bool bad, const char* name) {
+    if (bad) out += (out.empty() ? "" : ", ") + std::string(name);
+  };
+  add(!s_[f_.x][i].allFinite(), "position");
+  add(!s_[f_.v][i].allFinite(), "velocity");
+  add(!std::isfinite(s_[f_.e][i]), "specific_internal_energy");
+  add(!(s_[f_.rho][i] > 0.0) || !std::isfinite(s_[f_.rho][i]), "density");
+  add(!(s_[f_.h][i] > 0.0) || !std::isfinite(s_[f_.h][i]), "smoothing_length");
+  add(!std::isfinite(s_[f_.p][i]), "pressure");
+  add(!std::isfinite(s_[f_.cs][i]), "sound_speed");
+  if (f_.hasStrength()) add(!s_[f_.S][i].allFinite(), "stress");
+  if (f_.anisotropic()) add(!s_[f_.H][i].allFinite(), "smoothing");
+  return out;
+}
+
+// Every rank calls this with its candidate (max() for none; `row` its owned row): the lowest
+// candidate id's owner fills in the particle and every rank gets the same copy (and the owner's
+// list of bad fields). Returns false when no rank had a candidate.
+template <int Dim>
+bool SphMethod<Dim>::gather(ParticleReport& fault, ParticleId mine, std::size_t row,
+                            std::string& fields) const {
+  ParticleId first;
+  MPI_Allreduce(&mine, &first, 1, MPI_UINT64_T, MPI_MIN, mpi_.comm());
+  if (first == std::numeric_limits<ParticleId>::max()) return false;
+  int owner = mine == first ? mpi_.rank() : std::numeric_limits<int>::max();
+  MPI_Allreduce(MPI_IN_PLACE, &owner, 1, MPI_INT, MPI_MIN, mpi_.comm());
+  if (mpi_.rank() == owner) {
+    fault.id = s_[f_.id][row];
+    fault.material = s_[f_.material][row];
+    fault.body = s_[f_.body][row];
+    fault.neighbors = s_[cost_][row];
+    for (int d = 0; d < Dim; ++d) {
+      fault.x[static_cast<std::size_t>(d)] = s_[f_.x][row][d];
+      fault.v[static_cast<std::size_t>(d)] = s_[f_.v][row][d];
+    }
+    fault.rho = s_[f_.rho][row];
+    fault.h = s_[f_.h][row];
+    fault.p = s_[f_.p][row];
+    fault.cs = s_[f_.cs][row];
+    fault.e = s_[f_.e][row];
+    fields = badFields(row);
+  }
+  static_assert(std::is_trivially_copyable_v<ParticleReport>);
+  parallel::broadcast(fields, owner, mpi_.comm());
+  MPI_Bcast(static_cast<void*>(&fault), sizeof(ParticleReport), MPI_BYTE, owner, mpi_.comm());
+  return true;
+}
+
+template <int Dim>
+void SphMethod<Dim>::raise(ParticleReport fault, ParticleId mine, std::size_t row) const {
+  std::string fields;
+  if (!gather(fault, mine, row, fields))
+    throw StepFailure(fmt::format("time step {:.3e} s at step {} (t = {:.6e} s) and no particle "
+                                  "sets it",
+                                  fault.dt, fault.step, fault.time),
+                      fault, "");
+  const std::string what =
+      fault.kind == ParticleReport::Kind::NonFinite
+          ? fmt::format("non-finite state at step {} (t = {:.6e} s): {} of particle id {}",
+                        fault.step, fault.time, fields, fault.id)
+          : fmt::format("time step collapsed to {:.3e} s at step {} (t = {:.6e} s), set by "
+                        "particle id {}",
+                        fault.dt, fault.step, fault.time, fault.id);
+  throw StepFailure(what, fault, fields);
+}
+
+template <int Dim> ParticleReport SphMethod<Dim>::timeStepSetter() const {
+  const auto [dtLocal, which] = solver_->stableTimeStep();
+  const double dt = mpi_.min(dtLocal);
+  const bool setter = dtLocal == dt && s_.localCount() > 0;
+  ParticleReport fault;
+  fault.kind = ParticleReport::Kind::Collapse;
+  fault.dt = dt;
+  std::string fields;
+  gather(fault, setter ? s_[f_.id][which] : std::numeric_limits<ParticleId>::max(), which, fields);
+  return fault;
+}
+
+template <int Dim> ParticleReport SphMethod<Dim>::particle(ParticleId id) const {
+  const auto ids = s_[f_.id];
+  std::size_t row = 0;
+  ParticleId mine = std::numeric_limits<ParticleId>::max();
+  for (std::size_t i = 0; i < s_.localCount(); ++i)
+    if (ids[i] == id) mine = id, row = i;
+  ParticleReport fault;
+  std::string fields;
+  gather(fault, mine, row, fields);
+  return fault;
 }
 
 // The key is the checkpoint format's: unchanged since rebalances were first counted.

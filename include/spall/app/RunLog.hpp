@@ -1,7 +1,7 @@
 #pragma once
-// The run log on rank 0: a start banner, a progress line (redrawn in place on a terminal, one
-// line every ~10 s in a batch log) and a closing summary. Silent when quiet; errors go to stderr
-// elsewhere and are never silenced.
+// The run log on rank 0: a start banner, a progress line (redrawn in place on a terminal; in a
+// batch log, a plain line every N wall seconds and at every N percent of the run) and a closing
+// summary. Silent when quiet; errors go to stderr elsewhere and are never silenced.
 #include <string>
 #include <vector>
 
@@ -9,7 +9,12 @@ namespace spall::app {
 
 class RunLog {
 public:
-  explicit RunLog(bool enabled);
+  // Batch-log progress cadence: every `seconds` of wall time and every `percent` of the end
+  // time (0: not by percent).
+  explicit RunLog(bool enabled, double seconds = 30.0, double percent = 10.0);
+  // Whether stdout reaches a terminal. Under an MPI launcher a rank's stdout is a pseudo-terminal
+  // whatever the user redirected, so the launcher's own stdout decides.
+  static bool stdoutIsTerminal();
   void banner(const std::vector<std::string>& lines);
   void warning(const std::string& text);
   void progress(long long step, double time, double endTime, double dt, std::size_t particles,
@@ -21,7 +26,9 @@ public:
 private:
   bool enabled_;
   bool tty_;
+  double seconds_, percent_;
   double lastPrint_ = -1e300;
+  double lastFraction_ = 0.0;
   bool lineOpen_ = false;
 };
 

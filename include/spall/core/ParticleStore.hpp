@@ -234,6 +234,40 @@ public:
     return out;
   }
 
+  // The owned rows of some columns, byte for byte: a state to return to (the run's rescue point).
+  struct RowsCopy {
+    std::size_t count = 0;
+    std::vector<std::size_t> columns;
+    std::vector<std::vector<std::byte>> bytes;
+    std::size_t size() const {
+      std::size_t b = 0;
+      for (const auto& v : bytes) b += v.size();
+      return b;
+    }
+  };
+  // Copies the owned rows of the columns carrying all of `flags` into `out` (its buffers reused).
+  void copyRows(unsigned flags, RowsCopy& out) const {
+    out.count = local_;
+    out.columns = columnsWith(flags);
+    out.bytes.resize(out.columns.size());
+    for (std::size_t k = 0; k < out.columns.size(); ++k) {
+      const ColumnBase& c = *columns_[out.columns[k]];
+      out.bytes[k].resize(local_ * c.bytesPerParticle());
+      if (local_ > 0) std::memcpy(out.bytes[k].data(), c.raw(), out.bytes[k].size());
+    }
+  }
+  // Makes the copy's rows the owned rows again (no ghosts); the other columns keep whatever
+  // their first `count` rows held.
+  void restoreRows(const RowsCopy& in) {
+    dropGhosts();
+    if (in.count > local_) growTo(in.count);
+    local_ = in.count;
+    resizeAll(local_);
+    for (std::size_t k = 0; k < in.columns.size(); ++k)
+      if (!in.bytes[k].empty())
+        std::memcpy(columns_[in.columns[k]]->raw(), in.bytes[k].data(), in.bytes[k].size());
+  }
+
 private:
   void resizeAll(std::size_t n) {
     size_ = n;

@@ -125,6 +125,15 @@ struct OutputConfig {
   std::int64_t every_steps = 0;    // steps between snapshots (0: not by steps)
   std::vector<std::string> fields; // empty: all present
   std::int64_t history_every_steps = 1;
+  // Progress in a batch log (a file or pipe): a line every so many wall seconds and at every so
+  // many percent of the end time (0: not by percent). A terminal gets a line redrawn in place.
+  double progress_seconds = 30.0;
+  double progress_percent = 10.0;
+  // Steps of a failing particle's history: the run keeps a copy of its state at most this many
+  // steps old, and on failure replays from it (0: no copy, no replay).
+  std::int64_t failure_history = 20;
+  // A warning when dt falls below this fraction of its median over the last 100 steps (0: off).
+  double dt_warning = 0.1;
   SourceLocation where;
 };
 

@@ -2,6 +2,7 @@
 // A particle method as the run loop sees it: one whole step, the stable time step, its
 // counters and its restartable state. The run loop (app/) keeps time, output, checkpoints and
 // signals, and knows nothing of how a method steps (SPH and ASPH now, MPM next).
+#include "spall/core/Error.hpp"
 #include "spall/io/Checkpoint.hpp"
 #include "spall/methods/StepStats.hpp"
 
@@ -20,9 +21,13 @@ public:
   // Advances the state from step `step` at time `time` by dt, then checks it (RunError naming
   // the particle and the field when a value went non-finite).
   virtual void advance(double dt, std::int64_t step, double time) = 0;
-  // The next stable time step over all ranks (collective); RunError naming the particle when it
-  // collapsed below `floor`.
+  // The next stable time step over all ranks (collective); StepFailure naming the particle when
+  // it collapsed below `floor`. advance() throws StepFailure for non-finite values.
   virtual double stableTimeStep(double floor, std::int64_t step, double time) = 0;
+  // Collective diagnostics: the particle that sets the stable step now, and a particle by id
+  // (a report with id 0 and no values when no rank holds it).
+  virtual ParticleReport timeStepSetter() const = 0;
+  virtual ParticleReport particle(ParticleId id) const = 0;
   // The kernel support in units of h (probes sample within it).
   virtual double support() const = 0;
   virtual StepStats& stats() = 0;

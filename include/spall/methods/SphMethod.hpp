@@ -3,6 +3,7 @@
 // update, migration, halo, wall images, neighbors, density, kernel correction, forces, module
 // hooks, kick, EOS refresh, smoothing update, checks, rebalance. The physics is in solvers/ and
 // materials/, the parallel machinery in parallel/; this file only orders them.
+#include "spall/core/Error.hpp"
 #include "spall/core/ParticleFields.hpp"
 #include "spall/materials/MaterialUpdate.hpp"
 #include "spall/methods/Method.hpp"
@@ -34,6 +35,8 @@ public:
   void evaluate(std::int64_t step) override;
   void advance(double dt, std::int64_t step, double time) override;
   double stableTimeStep(double floor, std::int64_t step, double time) override;
+  ParticleReport timeStepSetter() const override;
+  ParticleReport particle(ParticleId id) const override;
   double support() const override { return solver_->support(); }
   StepStats& stats() override { return stats_; }
   void save(io::CheckpointState& st) const override;
@@ -49,6 +52,9 @@ private:
   void forces();
   materials::MaterialFields materialFields();
   void checkFinite(std::int64_t step, double time) const;
+  std::string badFields(std::size_t i) const;
+  bool gather(ParticleReport& fault, ParticleId mine, std::size_t row, std::string& fields) const;
+  [[noreturn]] void raise(ParticleReport fault, ParticleId mine, std::size_t row) const;
   void balance(std::int64_t step);
   double canonicalH() const;
 

@@ -58,7 +58,7 @@ struct SolverConfig {
   double nodes_per_h = 1.5; // n_h target (Owen 2010, Sec. II-A)
   double cfl = 0.25;
   DensityMethod density = DensityMethod::Continuity;
-  StressForm stress_form = StressForm::RhoSquared;
+  StressForm stress_form = StressForm::RhoProduct;
   ArtificialViscosityConfig artificial_viscosity;
   ArtificialStressConfig artificial_stress;
   VelocityGradient velocity_gradient = VelocityGradient::Sph;

@@ -2,6 +2,7 @@
 #include "spall/core/ParticleStore.hpp"
 
 #include <gtest/gtest.h>
+#include <limits>
 
 using namespace spall;
 
@@ -37,4 +38,41 @@ TEST(ParticleStore, GhostsCopyEveryFieldAndPermutationMovesAll) {
   s.swapValues(a, b);
   EXPECT_EQ(s[a][0], 2.0);
   EXPECT_EQ(s[b][0], 1.0);
+}
+
+// The rescue copy: the flagged columns' owned rows come back byte for byte, whatever the store
+// did since (more rows, fewer rows, ghosts); unflagged columns are not copied.
+TEST(ParticleStore, RowsCopyRestoresTheFlaggedColumnsExactly) {
+  ParticleStore s;
+  auto id = s.add<ParticleId>("id", kCheckpoint);
+  auto x = s.add<Vec<3>>("position", kCheckpoint);
+  auto scratch = s.add<double>("scratch", 0);
+  s.resizeLocal(5);
+  for (std::size_t i = 0; i < 5; ++i) {
+    s[id][i] = 100 + i;
+    s[x][i] = Vec<3>(0.1 * double(i), 1.0 / 3.0 + double(i), -1e-300);
+    s[scratch][i] = 7.0;
+  }
+  ParticleStore::RowsCopy copy;
+  s.copyRows(kCheckpoint, copy);
+  EXPECT_EQ(copy.count, 5u);
+  EXPECT_EQ(copy.size(), 5u * (sizeof(ParticleId) + sizeof(Vec<3>)));
+  // The store moves on: rows change, some leave, ghosts arrive.
+  s[x][0] = Vec<3>::Constant(std::numeric_limits<double>::quiet_NaN());
+  const std::vector<std::uint32_t> keep{4, 2};
+  s.keepLocal(keep);
+  s.appendGhostCopy(0);
+  s.restoreRows(copy);
+  ASSERT_EQ(s.localCount(), 5u);
+  EXPECT_EQ(s.ghostCount(), 0u);
+  for (std::size_t i = 0; i < 5; ++i) {
+    EXPECT_EQ(s[id][i], 100 + i);
+    EXPECT_EQ(s[x][i], Vec<3>(0.1 * double(i), 1.0 / 3.0 + double(i), -1e-300));
+  }
+  // A copy of more rows than the store holds grows it; copying again reuses the buffers.
+  s.resizeLocal(2);
+  s.restoreRows(copy);
+  EXPECT_EQ(s[id][4], 104u);
+  s.copyRows(kCheckpoint, copy);
+  EXPECT_EQ(copy.count, 5u);
 }

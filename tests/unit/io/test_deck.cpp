@@ -541,8 +541,13 @@ TEST_F(DeckTest, NonPositiveSpacing) {
 
 TEST_F(DeckTest, CflOutsideZeroOne) {
   expectError(withLine(kDeck1D, 8, "cfl = 0.0"), 8, 7, "'solver.cfl' must be in (0, 1], got 0");
-  expectError(withLine(kDeck1D, 8, "cfl = 1.5"), 8, 7, "'solver.cfl' must be in (0, 1], got 1.5");
+  expectError(withLine(kDeck1D, 8, "cfl = 1.5"), 8, 7, "'solver.cfl' must be in (0, 1] (above 1");
   EXPECT_DOUBLE_EQ(load(withLine(kDeck1D, 8, "cfl = 1")).solver.cfl, 1.0);
+  // A stability test asks for an unstable cfl explicitly; 10 is still the limit.
+  EXPECT_DOUBLE_EQ(load(withLine(kDeck1D, 8, "cfl = 5\nallow_unstable_cfl = true")).solver.cfl,
+                   5.0);
+  expectError(withLine(kDeck1D, 8, "allow_unstable_cfl = true\ncfl = 50"), 9, 7,
+              "'solver.cfl' must be in (0, 10]");
 }
 
 TEST_F(DeckTest, IdealGasGammaAboveOne) {

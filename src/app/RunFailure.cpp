@@ -1,0 +1,183 @@
+#include "Simulation.hpp"
+
+#include <algorithm>
+#include <fmt/format.h>
+#include <fstream>
+#include <limits>
+
+// When a run fails: the rescue point it keeps, the replay from it that records the failing
+// particle's last steps and checkpoints the last good state, the message that explains; and the
+// early warning when the time step falls.
+namespace spall::app {
+
+namespace fs = std::filesystem;
+
+// A copy of the checkpointed state, taken every output.failure_history steps: at most that many
+// steps to replay when a step fails.
+template <int Dim> void Simulation<Dim>::keepRescuePoint(double dtNext, Clock::time_point wall0) {
+  if (deck_.output.failure_history <= 0) return;
+  method_->stats().phases.time(methods::kCheckpoint, [&] {
+    store_.copyRows(kCheckpoint, rescue_.rows);
+    rescue_.state = saveState(
+        dtNext, wallOffset_ + std::chrono::duration<double>(Clock::now() - wall0).count());
+    rescue_.time = time_;
+    rescue_.step = step_;
+    rescue_.valid = true;
+  });
+}
+
+// Collective. Rewinds to the rescue point and steps again to the failure (the steps are
+// deterministic: the same particles bit for bit), sampling the failing particle each step and
+// writing a checkpoint of the last good state on the way; then throws the explaining RunError.
+template <int Dim>
+void Simulation<Dim>::explainFailure(const StepFailure& failure, Clock::time_point wall0) {
+  const ParticleReport& f = failure.fault();
+  history_.flush();
+  probesCsv_.flush();
+  const bool nonFinite = f.kind == ParticleReport::Kind::NonFinite;
+  // A non-finite step's state is lost; a collapsed step's state is finite and restartable.
+  const std::int64_t lastGood = nonFinite ? f.step - 1 : f.step;
+  std::vector<std::string> rows;
+  const auto sample = [&](std::int64_t step, double time, double dt) {
+    const ParticleReport s = method_->particle(f.id);
+    // The rescue point's row has no step behind it in the file: its dt is nan.
+    std::string row = fmt::format("{},{:.17g},{:.17g}", step, time, dt);
+    for (int d = 0; d < Dim; ++d) row += fmt::format(",{:.17g}", s.x[static_cast<std::size_t>(d)]);
+    for (int d = 0; d < Dim; ++d) row += fmt::format(",{:.17g}", s.v[static_cast<std::size_t>(d)]);
+    rows.push_back(row + fmt::format(",{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{}", s.rho, s.h, s.p,
+                                     s.cs, s.e, s.neighbors));
+  };
+  std::int64_t checkpointStep = -1;
+  const auto checkpointOnce = [&](double dtNext) {
+    if (checkpointStep >= 0 || step_ != lastGood) return;
+    checkpoint(dtNext, wall0);
+    checkpointStep = step_;
+  };
+  if (rescue_.valid && rescue_.step <= lastGood) {
+    store_.restoreRows(rescue_.rows);
+    io::CheckpointHeader h;
+    h.path = "the rescue copy";
+    h.dimension = Dim;
+    h.time = rescue_.time;
+    h.step = rescue_.step;
+    h.particles = totalParticles_;
+    h.rankCounts.assign(static_cast<std::size_t>(mpi_.size()), 0);
+    h.state = rescue_.state;
+    restoreState(h, true);
+    double dt = rescue_.state.real("dt");
+    sample(step_, time_, std::numeric_limits<double>::quiet_NaN());
+    while (step_ < f.step) {
+      checkpointOnce(dt);
+      const double dtTaken = clampToTargets(dt);
+      try {
+        dt = stepOnce(dt, wall0, true);
+      } catch (const StepFailure&) {
+        // As before: the same particle, the same step.
+        sample(f.step, f.time, dtTaken);
+        break;
+      }
+      sample(step_, time_, dtTaken);
+    }
+    checkpointOnce(f.dt);
+  } else if (!nonFinite) {
+    checkpointOnce(f.dt);
+  }
+
+  // The particle's history, and what it looked like when it failed. A restart that meets the
+  // same failure again leaves the first run's (longer) file alone.
+  const std::string historyFile = fmt::format("failure_step{}_particle{}.csv", f.step, f.id);
+  if (!rows.empty()) {
+    parallel::onRoot<RunError>(mpi_.comm(), [&] {
+      if (fs::exists(dir_ / historyFile)) return;
+      std::ofstream out(dir_ / historyFile);
+      const char* axes = "xyz";
+      std::string header = "step,time,dt";
+      for (int d = 0; d < Dim; ++d) header += fmt::format(",position_{}", axes[d]);
+      for (int d = 0; d < Dim; ++d) header += fmt::format(",velocity_{}", axes[d]);
+      out << header
+          << ",density,smoothing_length,pressure,sound_speed,specific_internal_energy,neighbors\n";
+      for (const auto& r : rows) out << r << "\n";
+      if (!out) throw RunError("cannot write " + (dir_ / historyFile).string());
+    });
+  }
+  const auto& material = deck_.materials.at(static_cast<std::size_t>(f.material));
+  const auto& body = bodies_.at(static_cast<std::size_t>(f.body));
+  const double compression = f.rho / material.density;
+  const double hRatio = f.h / body.spacing;
+  std::string position, velocity;
+  for (int d = 0; d < Dim; ++d) {
+    position += fmt::format("{}{:.4e}", d ? ", " : "", f.x[static_cast<std::size_t>(d)]);
+    velocity += fmt::format("{}{:.4e}", d ? ", " : "", f.v[static_cast<std::size_t>(d)]);
+  }
+  std::string text = fmt::format(
+      "{} (material '{}', body '{}')\n  at x = ({}) m, v = ({}) m/s: density {:.4e} kg/m^3 "
+      "({:.3g} x reference), h {:.3e} m ({:.3g} x its body's spacing), pressure {:.4e} Pa, "
+      "sound speed {:.4e} m/s, {} neighbors",
+      failure.what(), material.name, body.name, position, velocity, f.rho, compression, f.h, hRatio,
+      f.p, f.cs, f.neighbors);
+  if (checkpointStep >= 0)
+    text += fmt::format("\n  last good state: {} (step {}; continue with --restart latest)",
+                        (dir_ / "checkpoints" / checkpointFileName(checkpointStep)).string(),
+                        checkpointStep);
+  else
+    text += "\n  no checkpoint of a good state: output.failure_history = 0 keeps none";
+  if (!rows.empty())
+    text += fmt::format("\n  its history (position, velocity, density, h, pressure, neighbors) "
+                        "over the last steps: {}",
+                        (dir_ / historyFile).string());
+  // What usually causes it, judged from the particle.
+  if (compression > 10.0 || hRatio < 0.1)
+    text += "\n  hint: compressed beyond any shock state (a shock compresses ~4-6x): particles "
+            "are interpenetrating or pairing. Where bodies meet, solver.contact = "
+            "\"frictionless\" and solver.stress_form = \"rho_product\" (the default) hold "
+            "them apart; also a smaller solver.cfl or a finer resolution";
+  else if (f.neighbors < 3 * Dim)
+    text += "\n  hint: the particle has few neighbors: it has left its body (a fragment of one "
+            "particle); solids under tension: solver.artificial_stress";
+  else if (nonFinite)
+    text += "\n  hint: try a smaller solver.cfl; see decks/README.md, \"When a run fails\"";
+  else
+    text += fmt::format("\n  hint: a step below 1e-14 of run.end_time ({:.3e} s) counts as "
+                        "collapsed; see decks/README.md, \"When a run fails\"",
+                        1e-14 * deck_.run.end_time);
+  throw RunError(text, true);
+}
+
+// An early warning: dt below output.dt_warning times its median over the last 100 steps.
+template <int Dim> void Simulation<Dim>::watchTimeStep(double dt) {
+  if (deck_.output.dt_warning <= 0.0) return;
+  constexpr std::size_t kWindow = 100;
+  if (recentDt_.size() == kWindow) {
+    std::vector<double> sorted(recentDt_.begin(), recentDt_.end());
+    std::nth_element(sorted.begin(), sorted.begin() + kWindow / 2, sorted.end());
+    const double median = sorted[kWindow / 2];
+    // Warn once per fall: again only after dt recovered.
+    if (dt < deck_.output.dt_warning * median) {
+      if (!dtLow_) {
+        const ParticleReport s = method_->timeStepSetter();
+        if (log_ && s.material >= 0) {
+          const auto& material = deck_.materials.at(static_cast<std::size_t>(s.material));
+          log_->warning(fmt::format(
+              "step {}: dt {:.3e} s is {:.2g} of its median over the last {} steps ({:.3e} s); "
+              "set by particle id {} (material '{}', body '{}', density {:.3g} x reference, "
+              "h {:.3g} x its body's spacing, sound speed {:.3e} m/s)",
+              step_, dt, dt / median, kWindow, median, s.id, material.name,
+              bodies_.at(static_cast<std::size_t>(s.body)).name, s.rho / material.density,
+              s.h / bodies_.at(static_cast<std::size_t>(s.body)).spacing, s.cs));
+        }
+        ++dtWarnings_;
+      }
+      dtLow_ = true;
+    } else if (dt > 2.0 * deck_.output.dt_warning * median) {
+      dtLow_ = false;
+    }
+    recentDt_.pop_front();
+  }
+  recentDt_.push_back(dt);
+}
+
+template class Simulation<1>;
+template class Simulation<2>;
+template class Simulation<3>;
+
+} // namespace spall::app

@@ -1,0 +1,129 @@
+#!/usr/bin/python3
+"""Failures that explain themselves (issue 19):
+
+- a deliberately unstable deck (noh_2d at cfl 5) exits 1 with one message (printed once, on 1
+  and 3 ranks) naming the particle, its material and body, the bad field and the step; writes the
+  particle's history file (steps up to the failure, the last row non-finite or non-positive) and
+  a checkpoint of the last good step, which restarts and meets the same failure at the same step;
+  the history file is the same on 1 and 3 ranks, number for number (replay is exact);
+- a collapsed time step at the first step (a floor above the stable step) checkpoints the state
+  it has and says which particle set the step;
+- a batch log (stdout to a file, through mpirun too) gets plain progress lines, no escape codes.
+
+usage: test_failures.py SPALL SOURCE_DIR
+"""
+import csv
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+SPALL, SRC = Path(sys.argv[1]), Path(sys.argv[2])
+ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+           OMPI_MCA_rmaps_base_oversubscribe="1")
+NOH = SRC / "decks/noh_2d.toml"
+UNSTABLE = ["--set", "solver.cfl=5", "--set", "solver.allow_unstable_cfl=true", "--set",
+            "run.resolution=0.5"]
+failures = []
+
+
+def check(cond, message):
+    print(("ok   " if cond else "FAIL ") + message, flush=True)
+    if not cond:
+        failures.append(message)
+
+
+def run(ranks, args, stdout=subprocess.PIPE):
+    cmd = [str(SPALL), "run", *args]
+    if ranks > 1:
+        cmd = ["mpirun", "-np", str(ranks)] + cmd
+    return subprocess.run(cmd, stdout=stdout, stderr=subprocess.PIPE, text=True, env=ENV,
+                          stdin=subprocess.DEVNULL, timeout=300)
+
+
+def parse(stderr):
+    m = re.search(r"non-finite state at step (\d+) \(t = [^)]*\): ([a-z_, ]+) of particle id (\d+) "
+                  r"\(material '(\w+)', body '(\w+)'\)", stderr)
+    return m.groups() if m else None
+
+
+def history(out, step, pid):
+    path = out / f"failure_step{step}_particle{pid}.csv"
+    if not path.exists():
+        return None
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+tmp = Path(tempfile.mkdtemp(prefix="spall-failures-"))
+try:
+    # ---- non-finite state, 1 rank ----
+    out1 = tmp / "one"
+    r = run(1, [str(NOH), "--output", str(out1), *UNSTABLE])
+    check(r.returncode == 1, f"cfl 5 exits 1 (got {r.returncode})")
+    got = parse(r.stderr)
+    check(got is not None, "the message names step, field, particle, material and body:\n" + r.stderr)
+    step, fields, pid, material, body = got
+    check(material == "gas" and body == "gas", "material and body by name")
+    check(r.stderr.count("error:") == 1, "one error message")
+    for words in ("x reference", "x its body's spacing", "neighbors", "last good state",
+                  "continue with --restart latest", "hint:"):
+        check(words in r.stderr, f"the message says '{words}'")
+    rows = history(out1, step, pid)
+    check(rows is not None and len(rows) >= 2, "the particle's history file has rows")
+    check(int(rows[-1]["step"]) == int(step), "its last row is the failing step")
+    last = rows[-1]
+    check(not (float(last["density"]) > 0.0 and all(math.isfinite(float(v)) for k, v in last.items()
+                                                        if k != "neighbors")),
+          "its last row holds the bad value")
+    check(all(float(r_["density"]) > 0.0 for r_ in rows[:-1]), "the rows before are good")
+    latest = (out1 / "checkpoints/latest").read_text().strip()
+    check(latest == f"ckpt_{int(step) - 1:06d}.h5", f"latest checkpoint is the last good step ({latest})")
+    first_history = (out1 / f"failure_step{step}_particle{pid}.csv").read_text()
+
+    # ---- the checkpoint restarts, and the same failure comes back ----
+    r2 = run(1, [str(NOH), "--output", str(out1), "--restart", "latest", *UNSTABLE])
+    check(r2.returncode == 1 and parse(r2.stderr) == got,
+          f"the restart fails the same way at the same step: {parse(r2.stderr)}")
+    check((out1 / f"failure_step{step}_particle{pid}.csv").read_text() == first_history,
+          "the first run's history file is left alone")
+
+    # ---- 3 ranks: one message, the same particle, the same history ----
+    out3 = tmp / "three"
+    r3 = run(3, [str(NOH), "--output", str(out3), *UNSTABLE])
+    check(r3.returncode != 0, "3 ranks fail too")
+    check(parse(r3.stderr) == got, f"3 ranks: the same failure ({parse(r3.stderr)})")
+    check(r3.stderr.count("error:") == 1, f"3 ranks: printed once:\n{r3.stderr}")
+    check((out3 / f"failure_step{step}_particle{pid}.csv").read_text() == first_history,
+          "3 ranks: the same history file, number for number")
+
+    # ---- a collapsed step: the floor is 1e-14 of the end time ----
+    outc = tmp / "collapse"
+    r = run(1, [str(SRC / "decks/sod_1d.toml"), "--output", str(outc), "--set", "run.end_time=1e12"])
+    m = re.search(r"time step collapsed to \S+ s at step 0 .* set by particle id (\d+) "
+                  r"\(material '(\w+)', body '(\w+)'\)", r.stderr)
+    check(r.returncode == 1 and m is not None, f"a collapsed step names its particle:\n{r.stderr}")
+    check((outc / "checkpoints/latest").read_text().strip() == "ckpt_000000.h5",
+          "and checkpoints the state it has")
+
+    # ---- progress in a batch log ----
+    for ranks in (1, 2):
+        outp = tmp / f"progress{ranks}"
+        logfile = tmp / f"progress{ranks}.log"
+        with open(logfile, "w") as f:
+            r = run(ranks, [str(SRC / "decks/sod_1d.toml"), "--output", str(outp), "--set",
+                            "output.progress_percent=25"], stdout=f)
+        text = logfile.read_text()
+        lines = [l for l in text.splitlines() if l.startswith("step ")]
+        check(r.returncode == 0 and "\r" not in text and "\033" not in text,
+              f"{ranks} rank(s): no escape codes in a batch log")
+        check(4 <= len(lines) <= 6, f"{ranks} rank(s): a line at every 25% ({len(lines)} lines)")
+finally:
+    shutil.rmtree(tmp, ignore_errors=True)
+
+print(f"{len(failures)} failure(s)")
+sys.exit(1 if failures else 0)
