@@ -1,12 +1,16 @@
 #include "spall/app/BodyGenerator.hpp"
 
+#include "spall/app/SystemInfo.hpp"
 #include "spall/core/Random.hpp"
 #include "spall/kernels/Kernels.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
+#include <numbers>
+#include <span>
 
 namespace spall::app {
 
@@ -32,6 +36,17 @@ template <int Dim> struct Shape {
     if (c.type == "cylinder") return std::hypot(c.radius, 0.5 * c.length);
     if (c.type == "ring") return c.outer_radius;
     return c.radius;
+  }
+  // Length, area or volume (Dim).
+  double measure() const {
+    const double pi = std::numbers::pi;
+    if (c.type == "box") return (toVec<Dim>(c.max) - toVec<Dim>(c.min)).prod();
+    if (c.type == "cylinder") return pi * c.radius * c.radius * c.length;
+    if (c.type == "ring")
+      return pi * (c.outer_radius * c.outer_radius - c.inner_radius * c.inner_radius);
+    return Dim == 1   ? 2.0 * c.radius
+           : Dim == 2 ? pi * c.radius * c.radius
+                      : 4.0 / 3.0 * pi * std::pow(c.radius, 3);
   }
   bool contains(const Vec<Dim>& x) const {
     if (c.type == "box") {
@@ -88,6 +103,61 @@ double forEachLatticeSite(bool hexagonal, double dx, double radius, F&& visit) {
   return Dim == 2 ? dx * dy : dx * dx * dx / std::sqrt(2.0);
 }
 
+// Contact groups by body. Merged (contact "auto"): bodies whose particles come within 1.5 times
+// the larger of their spacings of each other at t = 0 touch, and touching bodies are one group
+// (transitively): a bonded assembly stays welded, bodies that meet later meet frictionless.
+// Otherwise every body is its own group. Particles are binned on a grid of the largest such
+// distance and each is compared with the 3^Dim cells around it: O(N).
+template <int Dim>
+std::vector<std::int32_t> contactGroups(std::span<const Vec<Dim>> x,
+                                        std::span<const std::int32_t> body,
+                                        const std::vector<double>& spacing, bool merge) {
+  const std::size_t bodies = spacing.size();
+  std::vector<std::int32_t> root(bodies);
+  for (std::size_t b = 0; b < bodies; ++b) root[b] = static_cast<std::int32_t>(b);
+  if (!merge || bodies < 2) return root;
+  const auto find = [&](std::int32_t b) {
+    while (root[static_cast<std::size_t>(b)] != b) b = root[static_cast<std::size_t>(b)];
+    return b;
+  };
+  const double cell = 1.5 * *std::max_element(spacing.begin(), spacing.end());
+  Vec<Dim> lo = x[0];
+  for (const auto& p : x) lo = lo.cwiseMin(p);
+  using Key = std::array<std::int64_t, 3>;
+  const auto keyOf = [&](const Vec<Dim>& p) {
+    Key k{0, 0, 0};
+    for (int d = 0; d < Dim; ++d)
+      k[static_cast<std::size_t>(d)] = static_cast<std::int64_t>(std::floor((p[d] - lo[d]) / cell));
+    return k;
+  };
+  std::vector<std::pair<Key, std::uint32_t>> binned(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i)
+    binned[i] = {keyOf(x[i]), static_cast<std::uint32_t>(i)};
+  std::sort(binned.begin(), binned.end());
+  const int reach[3] = {1, Dim >= 2 ? 1 : 0, Dim == 3 ? 1 : 0};
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const Key k = keyOf(x[i]);
+    for (int dz = -reach[2]; dz <= reach[2]; ++dz)
+      for (int dy = -reach[1]; dy <= reach[1]; ++dy)
+        for (int dx = -reach[0]; dx <= reach[0]; ++dx) {
+          const Key c{k[0] + dx, k[1] + dy, k[2] + dz};
+          auto it = std::lower_bound(binned.begin(), binned.end(), std::make_pair(c, 0u));
+          for (; it != binned.end() && it->first == c; ++it) {
+            const std::size_t j = it->second;
+            if (body[j] == body[i]) continue;
+            const double reachIJ = 1.5 * std::max(spacing[static_cast<std::size_t>(body[i])],
+                                                  spacing[static_cast<std::size_t>(body[j])]);
+            if ((x[i] - x[j]).squaredNorm() < reachIJ * reachIJ) {
+              const std::int32_t a = find(body[i]), b = find(body[j]);
+              if (a != b) root[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+            }
+          }
+        }
+  }
+  for (std::size_t b = 0; b < bodies; ++b) root[b] = find(static_cast<std::int32_t>(b));
+  return root;
+}
+
 } // namespace
 
 template <int Dim>
@@ -100,6 +170,17 @@ std::vector<BodySummary> generateBodies(const Deck& deck, const std::vector<mate
   std::vector<BodySummary> summary;
   std::vector<std::vector<Site>> sites(deck.bodies.size());
   std::size_t total = 0;
+  // Every rank makes every particle once: what the lattices visit must fit in this rank's share
+  // of the memory, or the deck asks for more than the machine has (a misplaced exponent).
+  const double available = static_cast<double>(availableMemoryBytes());
+  // Per particle: its site, its fields and its neighbor indices at the target n_h.
+  const double neighbors =
+      std::pow(4.0 * deck.solver.nodes_per_h, Dim) * (Dim == 3   ? std::numbers::pi / 6.0
+                                                      : Dim == 2 ? std::numbers::pi / 4.0
+                                                                 : 1.0);
+  const double perSite = static_cast<double>(sizeof(Site)) +
+                         1.1 * static_cast<double>(store.bytesPerParticle()) + 4.0 * neighbors;
+  double made = 0.0;
   for (std::size_t b = 0; b < deck.bodies.size(); ++b) {
     const BodyConfig& body = deck.bodies[b];
     const Shape<Dim> shape{body.shape};
@@ -109,6 +190,22 @@ std::vector<BodySummary> generateBodies(const Deck& deck, const std::vector<mate
       for (int r = 0; r < Dim; ++r)
         for (int c = 0; c < Dim; ++c) A(r, c) = (*body.lattice_transform)[r][c];
     const double detA = std::abs(A.determinant());
+    // Particles (the shape's measure over a site's, hexagonal lattices being denser by at most
+    // sqrt 2) and the lattice sites visited to find them (a cube about the shape).
+    made += 1.5 * shape.measure() / detA / std::pow(dx, Dim);
+    const double across = 2.0 * shape.extent() * A.inverse().norm() / dx + 4.0;
+    if (!(made * perSite < available))
+      throw DeckError(
+          body.where,
+          fmt::format("body '{}': a spacing of {:g} m (after run.resolution) makes "
+                      "~{:.3g} particles with the bodies before it, ~{:.3g} GB on every "
+                      "rank while they are made; {:.3g} GB are available",
+                      body.name, dx, made, made * perSite / 1e9, available / 1e9));
+    if (!(across < 1e8 && std::pow(across, Dim) < 1e12))
+      throw DeckError(body.where,
+                      fmt::format("body '{}': a spacing of {:g} m (after run.resolution) is "
+                                  "{:.3g} times smaller than the shape",
+                                  body.name, dx, across));
     auto& out = sites[b];
     if (body.shape.type == "box" && body.lattice == "cubic" && !body.lattice_transform) {
       // Fill the box exactly: n_k = round(L_k/dx) cells, spacing adjusted to L_k/n_k.
@@ -116,7 +213,8 @@ std::vector<BodySummary> generateBodies(const Deck& deck, const std::vector<mate
       std::int64_t n[3] = {1, 1, 1};
       double volume = 1.0;
       for (int d = 0; d < Dim; ++d) {
-        n[d] = std::max<std::int64_t>(1, std::llround((hi[d] - lo[d]) / dx));
+        // Thinner than half a spacing: no particles (as for every other shape).
+        n[d] = (hi[d] - lo[d]) / dx < 0.5 ? 0 : std::llround((hi[d] - lo[d]) / dx);
         step[d] = (hi[d] - lo[d]) / static_cast<double>(n[d]);
         volume *= step[d];
       }
@@ -232,6 +330,14 @@ std::vector<BodySummary> generateBodies(const Deck& deck, const std::vector<mate
       summary[b].mass += m[k];
       ++k;
     }
+  }
+  if (f.contactGroup.valid()) {
+    std::vector<double> spacing;
+    for (const auto& b : summary) spacing.push_back(b.spacing);
+    const auto group = contactGroups<Dim>(x.first(total), bod.first(total), spacing,
+                                          deck.solver.contact == Contact::Auto);
+    auto g = store[f.contactGroup];
+    for (std::size_t i = 0; i < total; ++i) g[i] = group[static_cast<std::size_t>(bod[i])];
   }
   return summary;
 }

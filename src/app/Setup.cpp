@@ -77,7 +77,7 @@ std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck
   if (solids && solver.velocity_gradient == VelocityGradient::Corrected)
     list.push_back(std::make_unique<methods::KernelCorrection<Dim>>());
   if (solver.method == "asph") list.push_back(std::make_unique<methods::SmoothingTensor<Dim>>());
-  if (solver.contact == Contact::Frictionless)
+  if (solver.contact != Contact::Welded)
     list.push_back(std::make_unique<methods::FrictionlessContact<Dim>>());
   if (!fixed.empty()) list.push_back(std::make_unique<methods::FixedBodies<Dim>>(fixed));
   return list;

@@ -7,6 +7,7 @@
 #include <metis.h>
 #include <mpi.h>
 #include <toml++/toml.h>
+#include <unistd.h>
 
 namespace spall::app {
 
@@ -27,6 +28,17 @@ std::size_t residentBytes() {
 }
 std::size_t peakResidentBytes() {
   return statusKiB("VmHWM");
+}
+std::size_t availableMemoryBytes() {
+  std::ifstream in("/proc/meminfo");
+  std::string key;
+  std::size_t kib = 0;
+  while (in >> key >> kib) {
+    if (key == "MemAvailable:") return kib * 1024;
+    in.ignore(256, '\n');
+  }
+  return static_cast<std::size_t>(sysconf(_SC_PHYS_PAGES)) *
+         static_cast<std::size_t>(sysconf(_SC_PAGE_SIZE));
 }
 
 std::string infoText() {

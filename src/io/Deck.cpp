@@ -79,7 +79,7 @@ private:
   void readShape(const TableReader& r, ShapeConfig& s) const;
   void readEnergySource(const TableReader& r, EnergySourceConfig& e) const;
   void readBoundary(const TableReader& r, BoundaryConfig& b) const;
-  void readOutput(const TableReader& r, OutputConfig& o) const;
+  void readOutput(const TableReader& r, OutputConfig& o, double endTime) const;
   void readCheckpoint(const TableReader& r, CheckpointConfig& c) const;
   void readStrength(const TableReader& r, StrengthConfig& c) const;
   void readProbe(const TableReader& r, ProbeConfig& p) const;
@@ -125,6 +125,13 @@ void DeckReader::read(Deck& deck) {
       }) == 0)
     throw DeckError(top.whereValue("body"), "the deck needs at least one [[body]]");
 
+  // Monaghan's artificial stress is on by default for decks with solids: without it, solids in
+  // tension pair up and tear (the rubber rings of decks/README.md, "Safe defaults").
+  if (!deck.solver.artificial_stress.given)
+    deck.solver.artificial_stress.enabled =
+        std::any_of(deck.materials.begin(), deck.materials.end(),
+                    [](const MaterialConfig& m) { return m.strength.type != "none"; });
+
   entries("energy_source", deck.energy_sources,
           [&](const TableReader& r, EnergySourceConfig& e) { readEnergySource(r, e); });
   entries("boundary", deck.boundaries,
@@ -132,7 +139,7 @@ void DeckReader::read(Deck& deck) {
 
   const toml::table* output = top.subtable("output");
   if (!output) throw DeckError(start, "missing required table [output]");
-  readOutput(reader(*output, Context{}.child("output")), deck.output);
+  readOutput(reader(*output, Context{}.child("output")), deck.output, deck.run.end_time);
   if (const auto* t = top.subtable("checkpoint"))
     readCheckpoint(reader(*t, Context{}.child("checkpoint")), deck.checkpoint.emplace());
 
@@ -320,6 +327,10 @@ void DeckReader::readBody(const TableReader& r, const std::vector<MaterialConfig
   r.check(b.spacing > 0.0, "spacing", "> 0", b.spacing);
   b.lattice = r.choice("lattice", {"cubic", "hexagonal"}, b.lattice);
   b.velocity = r.vector("velocity", dimension_).value_or(std::vector<double>(dimension_, 0.0));
+  double speed2 = 0.0;
+  for (double v : b.velocity) speed2 += v * v;
+  r.check(std::sqrt(speed2) < 299792458.0, "velocity", "slower than light (a speed below 3e8 m/s)",
+          std::sqrt(speed2));
 
   b.initial_density = r.number("initial_density");
   if (b.initial_density)
@@ -461,13 +472,16 @@ void DeckReader::readBoundary(const TableReader& r, BoundaryConfig& b) const {
   }
 }
 
-void DeckReader::readOutput(const TableReader& r, OutputConfig& o) const {
+void DeckReader::readOutput(const TableReader& r, OutputConfig& o, double endTime) const {
   r.allowOnly(*dd::schemaKeys("output"));
   o.where = r.where();
   o.directory = r.required(r.string("directory"), "directory");
   if (o.directory.empty()) r.fail("directory", r.quoted("directory") + " must not be empty");
   o.every = r.number("every").value_or(0.0);
   r.check(o.every >= 0.0, "every", ">= 0", o.every);
+  // Every snapshot time is a step: 1e8 of them in a run is a misplaced exponent.
+  r.check(o.every == 0.0 || endTime / o.every <= 1e8, "every",
+          ">= 1e-8 of run.end_time (at most 1e8 snapshots)", o.every);
   o.every_steps = r.integer("every_steps").value_or(0);
   r.check(o.every_steps >= 0, "every_steps", ">= 0", static_cast<double>(o.every_steps));
   o.fields = r.strings("fields").value_or(std::vector<std::string>{});

@@ -28,7 +28,8 @@ void readSolver(const TableReader& r, SolverConfig& s) {
           ? StressForm::RhoSquared
           : StressForm::RhoProduct;
   if (const auto v = r.number("nodes_per_h")) {
-    r.check(*v > 0.0, "nodes_per_h", "> 0", *v);
+    // Owen (2010) runs 1-4; beyond 10 the neighbor lists alone outgrow any machine.
+    r.check(*v >= 0.5 && *v <= 10.0, "nodes_per_h", "in [0.5, 10]", *v);
     s.nodes_per_h = *v;
   }
   // cfl above 1 is unstable by construction; a stability test may ask for it explicitly.
@@ -55,6 +56,7 @@ void readSolver(const TableReader& r, SolverConfig& s) {
     const TableReader as = TableReader(*t, r.context().child("artificial_stress"), r.deckPath());
     as.allowOnly(*schemaKeys("solver.artificial_stress"));
     auto& c = s.artificial_stress;
+    c.given = true;
     c.epsilon = as.number("epsilon").value_or(c.epsilon);
     as.check(c.epsilon >= 0.0 && c.epsilon <= 1.0, "epsilon", "in [0, 1] (0: off)", c.epsilon);
     c.enabled = c.epsilon > 0.0;
@@ -66,9 +68,11 @@ void readSolver(const TableReader& r, SolverConfig& s) {
   s.velocity_gradient = r.choice("velocity_gradient", {"sph", "corrected"}, "sph") == "corrected"
                             ? VelocityGradient::Corrected
                             : VelocityGradient::Sph;
-  s.contact = r.choice("contact", {"welded", "frictionless"}, "welded") == "frictionless"
-                  ? Contact::Frictionless
-                  : Contact::Welded;
+  // "auto" by default: bodies that collide part again (tools/stress, decks/README.md).
+  const std::string contact = r.choice("contact", {"auto", "welded", "frictionless"}, "auto");
+  s.contact = contact == "welded"         ? Contact::Welded
+              : contact == "frictionless" ? Contact::Frictionless
+                                          : Contact::Auto;
   s.h_min = r.number("h_min").value_or(s.h_min);
   r.check(s.h_min >= 0.0, "h_min", ">= 0", s.h_min);
   s.h_max = r.number("h_max", true).value_or(s.h_max);

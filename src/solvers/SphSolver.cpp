@@ -231,8 +231,8 @@ private:
     const double alpha = cfg_.artificial_viscosity.alpha, beta = cfg_.artificial_viscosity.beta;
     const double sigma = K::sigma();
     const std::size_t n = s_.localCount();
-    const bool frictionless = cfg_.contact == Contact::Frictionless;
-    const auto body = s_[f_.body];
+    const bool frictionless = cfg_.contact != Contact::Welded;
+    const auto body = frictionless ? s_[f_.contactGroup] : s_[f_.body];
     // What the pair loop needs of a neighbor j that depends on j alone, once per row and packed
     // together: the pair loop is left with one division (1/r) and one square root.
     if constexpr (Aniso) prepareAnisoRows(), psi2Eta_.resize(n), psi2x_.resize(n);
@@ -347,8 +347,8 @@ private:
           mui = std::max(mui, -mu);
         }
         const double rhoj = rho[j];
-        // Frictionless contact between bodies: across a body boundary only compression is
-        // transmitted (no tension, no shear), so touching bodies can slide and separate.
+        // Frictionless contact between bodies (contact groups): across a group boundary only
+        // compression is transmitted (no tension, no shear), so bodies can slide and separate.
         const bool across = frictionless && body[j] != bodyi;
         double qOwn = qI, qOther = rj.q;
         if (across) {

@@ -103,7 +103,8 @@ try:
 
     # ---- a collapsed step: the floor is 1e-14 of the end time ----
     outc = tmp / "collapse"
-    r = run(1, [str(SRC / "decks/sod_1d.toml"), "--output", str(outc), "--set", "run.end_time=1e12"])
+    r = run(1, [str(SRC / "decks/sod_1d.toml"), "--output", str(outc), "--set", "run.end_time=1e12",
+                "--set", "output.every=1e6"])
     m = re.search(r"time step collapsed to \S+ s at step 0 .* set by particle id (\d+) "
                   r"\(material '(\w+)', body '(\w+)'\)", r.stderr)
     check(r.returncode == 1 and m is not None, f"a collapsed step names its particle:\n{r.stderr}")

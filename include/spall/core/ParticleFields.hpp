@@ -34,6 +34,10 @@ template <int Dim> struct ParticleFields {
   // then holds the longest axis, 1/lambda_min(H): the reach of the neighbor search and the ghosts.
   Field<Tensor<Dim>> H;
 
+  // Contact (solver.contact frictionless or auto): particles of different groups transmit only
+  // compression. The group is the body, or with "auto" the bodies touching at t = 0 merged.
+  Field<std::int32_t> contactGroup;
+
   bool anisotropic() const { return H.valid(); }
   bool hasStrength() const { return S.valid(); }
 

@@ -31,8 +31,10 @@ struct ArtificialViscosityConfig {
 // Monaghan's artificial stress against the tensile instability (Gray, Monaghan & Swift 2001):
 // R = -epsilon sigma'/rho^2 on the tensile principal stresses, weighted by f_ij^exponent with
 // f_ij = W(r_ij)/W(dp) in the pair term.
+// On by default where a material has strength (the deck reader decides; decks/README.md).
 struct ArtificialStressConfig {
   bool enabled = false;
+  bool given = false; // the deck has a [solver.artificial_stress] table
   double epsilon = 0.3;
   int exponent = 4;
 };
@@ -48,8 +50,10 @@ enum class VelocityGradient {
 
 // How particles of different bodies interact.
 enum class Contact {
-  Welded,      // like one continuum: bodies touching under tension stick
-  Frictionless // only compression across a body boundary: bodies slide and separate freely
+  Welded,       // like one continuum: bodies touching under tension stick
+  Frictionless, // only compression across a body boundary: bodies slide and separate freely
+  Auto          // welded where bodies touch at t = 0 (a bonded assembly), frictionless between
+                // bodies that meet later (impacts)
 };
 
 struct SolverConfig {
@@ -62,7 +66,7 @@ struct SolverConfig {
   ArtificialViscosityConfig artificial_viscosity;
   ArtificialStressConfig artificial_stress;
   VelocityGradient velocity_gradient = VelocityGradient::Sph;
-  Contact contact = Contact::Welded;
+  Contact contact = Contact::Welded; // the deck's default is Auto (io/DeckSolver)
   // Limits on the smoothing scale: absolute bounds [h_min, h_max] in m (0 / inf: none), and a
   // bound relative to the particle's own volume: h <= h_max_ratio * n_h * (m/rho)^(1/dim), which
   // stops h from growing without end at free surfaces, where the neighbor count is one-sided.

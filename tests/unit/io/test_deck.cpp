@@ -540,7 +540,7 @@ TEST_F(DeckTest, NonPositiveSpacing) {
 }
 
 TEST_F(DeckTest, CflOutsideZeroOne) {
-  expectError(withLine(kDeck1D, 8, "cfl = 0.0"), 8, 7, "'solver.cfl' must be in (0, 1], got 0");
+  expectError(withLine(kDeck1D, 8, "cfl = 0.0"), 8, 7, "'solver.cfl' must be in (0, 1] (above 1");
   expectError(withLine(kDeck1D, 8, "cfl = 1.5"), 8, 7, "'solver.cfl' must be in (0, 1] (above 1");
   EXPECT_DOUBLE_EQ(load(withLine(kDeck1D, 8, "cfl = 1")).solver.cfl, 1.0);
   // A stability test asks for an unstable cfl explicitly; 10 is still the limit.
@@ -751,9 +751,18 @@ TEST_F(DeckTest, SolidSolverOptions) {
   EXPECT_EQ(d.solver.velocity_gradient, spall::VelocityGradient::Corrected);
   const Deck off = loadDeck(path, {"solver.artificial_stress.epsilon=0"});
   EXPECT_FALSE(off.solver.artificial_stress.enabled);
+  // The defaults (decks/README.md, "Safe defaults"): artificial stress where a material has
+  // strength (none here), contact "auto".
   const Deck plain = loadDeck(path);
   EXPECT_FALSE(plain.solver.artificial_stress.enabled);
-  EXPECT_EQ(plain.solver.contact, spall::Contact::Welded);
+  EXPECT_EQ(plain.solver.contact, spall::Contact::Auto);
+  EXPECT_EQ(plain.solver.stress_form, spall::StressForm::RhoProduct);
+  const Deck solid =
+      load(withLine(kDeck1D, 14,
+                    R"(eos = { type = "mie_gruneisen", c0 = 3940.0, s = 1.49, gamma0 = 2.02 }
+strength = { type = "von_mises", shear_modulus = 4.6e10, yield_stress = 1.2e8 })"));
+  EXPECT_TRUE(solid.solver.artificial_stress.enabled);
+  EXPECT_EQ(solid.solver.artificial_stress.epsilon, 0.3);
 }
 
 TEST_F(DeckTest, SolidSolverOptionsAreValidated) {

@@ -1,6 +1,7 @@
 #pragma once
-// contact = "frictionless": across a body boundary the force loop transmits compression only
-// (no tension, no shear), so it needs each neighbor's body, ghosts included.
+// contact = "frictionless" or "auto": across a contact-group boundary the force loop transmits
+// compression only (no tension, no shear), so it needs each neighbor's group, ghosts included.
+// The groups are set where the bodies are made (app/BodyGenerator: every rank sees every body).
 #include "spall/methods/Module.hpp"
 
 namespace spall::methods {
@@ -8,7 +9,7 @@ namespace spall::methods {
 template <int Dim> class FrictionlessContact final : public Module<Dim> {
 public:
   void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override {
-    s.addFlags(f.body.index, kHalo);
+    f.contactGroup = s.add<std::int32_t>("contact_group", kOutput | kCheckpoint | kHalo);
   }
 };
 
