@@ -40,12 +40,21 @@ struct LinearEos {
   std::optional<double> energyForPressure(double, double) const { return std::nullopt; }
 };
 
-// Mie-Gruneisen with a linear Us-up Hugoniot, in the form of Lam, Shen & Gong (2001), Eqs. 4-6:
-//   p = (1 - Gamma0 eta / 2) p_H(eta) + Gamma0 rho0 (1 + eta) e,   eta = rho/rho0 - 1   (Eq. 4, 7)
+// Mie-Gruneisen with a linear Us-up Hugoniot referenced to the Hugoniot of Lam, Shen & Gong
+// (2001), Eqs. 4-6:
+//   p = (1 - Gamma eta / 2) p_H(eta) + Gamma rho e,   eta = rho/rho0 - 1                (Eq. 4)
 //   p_H = a0 eta + b0 eta^2 + c0 eta^3,  a0 = rho0 C0^2,  b0 = a0 [1 + 2(S-1)],
 //   c0 = a0 [2(S-1) + 3(S-1)^2]                                                       (Eq. 5, 6)
-// In tension (eta < 0) the Hugoniot terms beyond the linear one are dropped, the usual practice
-// for this fit (the cubic is a compression fit and turns over in expansion).
+// Lam et al. hold Gamma = Gamma0; then the cold term (1 - Gamma0 eta/2) p_H turns negative past
+// rho = (1 + 2/Gamma0) rho0 (about twice the density for metals), and a particle compressed that
+// far is pulled in further, without bound (the collapses of tools/stress). In compression this
+// code holds Gamma rho = Gamma0 rho0 instead, the usual Mie-Gruneisen assumption (Gamma/V
+// constant): the cold factor becomes 1 - Gamma0 eta / (2 (1 + eta)), positive up to rho/rho0 =
+// 2/(2 - Gamma0) (no limit for Gamma0 <= 2), equal to Lam's in value and slope at eta = 0 and
+// within Gamma0 eta^2/2 of it (1e-4 relative at 1% compression).
+// In tension (eta < 0) Lam's form is kept, and the Hugoniot terms beyond the linear one are
+// dropped, the usual practice for this fit (the cubic is a compression fit and turns over in
+// expansion).
 struct MieGruneisen {
   double rho0 = 1.0;
   double C0 = 1.0;     // bulk sound speed
@@ -66,30 +75,45 @@ struct MieGruneisen {
       dpH = a0();
     }
   }
+  // The cold factor f(eta) multiplying p_H, its derivative, and Gamma rho (= dp/de at fixed rho).
+  void gruneisen(double eta, double& f, double& df, double& gammaRho) const {
+    if (eta > 0.0) {
+      f = 1.0 - 0.5 * Gamma0 * eta / (1.0 + eta);
+      df = -0.5 * Gamma0 / ((1.0 + eta) * (1.0 + eta));
+      gammaRho = Gamma0 * rho0;
+    } else {
+      f = 1.0 - 0.5 * Gamma0 * eta;
+      df = -0.5 * Gamma0;
+      gammaRho = Gamma0 * rho0 * (1.0 + eta);
+    }
+  }
   EosState evaluate(double rho, double e) const {
     const double eta = rho / rho0 - 1.0;
-    double pH, dpH;
+    double pH, dpH, f, df, gammaRho;
     hugoniot(eta, pH, dpH);
-    const double p = (1.0 - 0.5 * Gamma0 * eta) * pH + Gamma0 * rho * e;
-    // cs^2 = (dp/drho)_e + (p / rho^2) (dp/de)_rho, with (dp/de)_rho = Gamma0 rho.
-    const double dpdrho_e =
-        ((1.0 - 0.5 * Gamma0 * eta) * dpH - 0.5 * Gamma0 * pH) / rho0 + Gamma0 * e;
-    double cs2 = dpdrho_e + Gamma0 * p / rho;
+    gruneisen(eta, f, df, gammaRho);
+    const double p = f * pH + gammaRho * e;
+    // cs^2 = (dp/drho)_e + (p / rho^2) (dp/de)_rho.
+    double cs2 = dpdrho(rho, e) + gammaRho * p / (rho * rho);
     // Deep in tension the fit can give cs^2 <= 0; keep a floor so the CFL limit stays finite.
     cs2 = std::max(cs2, 1.0e-2 * C0 * C0);
     return {p, std::sqrt(cs2)};
   }
   double dpdrho(double rho, double e) const {
     const double eta = rho / rho0 - 1.0;
-    double pH, dpH;
+    double pH, dpH, f, df, gammaRho;
     hugoniot(eta, pH, dpH);
-    return ((1.0 - 0.5 * Gamma0 * eta) * dpH - 0.5 * Gamma0 * pH) / rho0 + Gamma0 * e;
+    gruneisen(eta, f, df, gammaRho);
+    // d(gamma rho)/drho: 0 in compression (constant), Gamma0 in tension.
+    const double dGammaRho = eta > 0.0 ? 0.0 : Gamma0;
+    return (f * dpH + df * pH) / rho0 + dGammaRho * e;
   }
   std::optional<double> energyForPressure(double rho, double p) const {
     const double eta = rho / rho0 - 1.0;
-    double pH, dpH;
+    double pH, dpH, f, df, gammaRho;
     hugoniot(eta, pH, dpH);
-    return (p - (1.0 - 0.5 * Gamma0 * eta) * pH) / (Gamma0 * rho);
+    gruneisen(eta, f, df, gammaRho);
+    return (p - f * pH) / gammaRho;
   }
 };
 
