@@ -83,7 +83,11 @@ for s in ["body.left.spacing=1e300", "body.left.spacing=1e-12", "run.resolution=
           "material.gas.density=nan", "run.dimension=3", "body.left.jitter=0.7"]:
     check("absurd_" + s.split("=")[0], sod, [s])
 
-print(f"{COUNT} mutants and the absurd values: {len(failures)} failure(s)")
+# Inputs that once hung or crashed (tools/fuzz keeps them too).
+for path in sorted((SRC / "tests/fuzz/regressions").glob("*.toml")):
+    check("regression_" + path.stem, path.read_text())
+
+print(f"{COUNT} mutants, the absurd values and the regressions: {len(failures)} failure(s)")
 for f in failures[:10]:
     print("FAIL", f)
 sys.exit(1 if failures else 0)
