@@ -35,8 +35,9 @@ void Simulation<Dim>::explainFailure(const StepFailure& failure, Clock::time_poi
   history_.flush();
   probesCsv_.flush();
   const bool nonFinite = f.kind == ParticleReport::Kind::NonFinite;
-  // A non-finite step's state is lost; a collapsed step's state is finite and restartable.
-  const std::int64_t lastGood = nonFinite ? f.step - 1 : f.step;
+  // The last state a normal step was taken from: the step before the failure. (A collapsed
+  // step's own state is finite too, but its next dt is below the floor.)
+  const std::int64_t lastGood = f.step - 1;
   std::vector<std::string> rows;
   const auto sample = [&](std::int64_t step, double time, double dt) {
     const ParticleReport s = method_->particle(f.id);
@@ -63,7 +64,9 @@ void Simulation<Dim>::explainFailure(const StepFailure& failure, Clock::time_poi
     h.particles = totalParticles_;
     h.rankCounts.assign(static_cast<std::size_t>(mpi_.size()), 0);
     h.state = rescue_.state;
+    const double wallOffset = wallOffset_; // this job's start: the copy's wall time includes it
     restoreState(h, true);
+    wallOffset_ = wallOffset;
     double dt = rescue_.state.real("dt");
     sample(step_, time_, std::numeric_limits<double>::quiet_NaN());
     while (step_ < f.step) {
@@ -71,16 +74,17 @@ void Simulation<Dim>::explainFailure(const StepFailure& failure, Clock::time_poi
       const double dtTaken = clampToTargets(dt);
       try {
         dt = stepOnce(dt, wall0, true);
-      } catch (const StepFailure&) {
-        // As before: the same particle, the same step.
-        sample(f.step, f.time, dtTaken);
+      } catch (const StepFailure& again) {
+        // As before (the steps are deterministic): the same particle, the same step.
+        sample(again.fault().step, again.fault().time, dtTaken);
         break;
       }
       sample(step_, time_, dtTaken);
     }
-    checkpointOnce(f.dt);
   } else if (!nonFinite) {
-    checkpointOnce(f.dt);
+    // No copy to replay from (failure_history = 0, or the very first step): the state it has.
+    checkpoint(f.dt, wall0);
+    checkpointStep = step_;
   }
 
   // The particle's history, and what it looked like when it failed. A restart that meets the
@@ -100,6 +104,7 @@ void Simulation<Dim>::explainFailure(const StepFailure& failure, Clock::time_poi
       if (!out) throw RunError("cannot write " + (dir_ / historyFile).string());
     });
   }
+  if (f.material < 0) throw RunError(failure.what(), true); // no particle: nothing to explain
   const auto& material = deck_.materials.at(static_cast<std::size_t>(f.material));
   const auto& body = bodies_.at(static_cast<std::size_t>(f.body));
   const double compression = f.rho / material.density;
@@ -116,7 +121,8 @@ void Simulation<Dim>::explainFailure(const StepFailure& failure, Clock::time_poi
       failure.what(), material.name, body.name, position, velocity, f.rho, compression, f.h, hRatio,
       f.p, f.cs, f.neighbors);
   if (checkpointStep >= 0)
-    text += fmt::format("\n  last good state: {} (step {}; continue with --restart latest)",
+    text += fmt::format("\n  last good state: {} (step {}; --restart latest runs into the failure "
+                        "again, with output.every_steps = 1 say, to watch it)",
                         (dir_ / "checkpoints" / checkpointFileName(checkpointStep)).string(),
                         checkpointStep);
   else

@@ -179,8 +179,9 @@ template <int Dim> bool Simulation<Dim>::snapshotDue() const {
   return deck_.output.every > 0.0 && time_ >= nextSnapshotTime_ * (1.0 - 1e-12);
 }
 
-template <int Dim> void Simulation<Dim>::writeSnapshot() {
+template <int Dim> void Simulation<Dim>::writeSnapshot(bool write) {
   method_->stats().phases.time(methods::kOutput, [&] {
+    if (!write) return advanceSnapshotClock(fmt::format("snap_{:06d}", snapshotIndex_));
     const std::size_t n = store_.localCount();
     std::vector<io::SnapshotField> fields;
     std::vector<FieldInfo> infos;
@@ -225,14 +226,20 @@ template <int Dim> void Simulation<Dim>::writeSnapshot() {
       io::writeSnapshotXdmf((snapDir / (base + ".xmf")).string(), base + ".h5", time_, global, Dim,
                             infos);
     }
-    // Kept on every rank alike: it is part of the checkpointed state.
-    series_.emplace_back(time_, base + ".xmf");
+    advanceSnapshotClock(base);
     if (mpi_.root()) io::writeSeriesXdmf((snapDir / "series.xmf").string(), series_);
-    ++snapshotIndex_;
-    lastSnapshotStep_ = step_;
-    if (deck_.output.every > 0.0)
-      while (nextSnapshotTime_ <= time_ * (1.0 + 1e-12)) nextSnapshotTime_ += deck_.output.every;
   });
+}
+
+// The bookkeeping of a snapshot (kept on every rank alike: it is part of the checkpointed state).
+// A replay (RunFailure.cpp) does it without writing the files again: the snapshot times set the
+// steps, so the replay's steps stay the run's.
+template <int Dim> void Simulation<Dim>::advanceSnapshotClock(const std::string& base) {
+  series_.emplace_back(time_, base + ".xmf");
+  ++snapshotIndex_;
+  lastSnapshotStep_ = step_;
+  if (deck_.output.every > 0.0)
+    while (nextSnapshotTime_ <= time_ * (1.0 + 1e-12)) nextSnapshotTime_ += deck_.output.every;
 }
 
 template <int Dim>

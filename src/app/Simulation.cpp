@@ -347,7 +347,7 @@ double Simulation<Dim>::stepOnce(double dt, Clock::time_point wall0, bool replay
   time_ += dt;
   ++step_;
   if (!replay) record(dt, step_, wall0);
-  if (snapshotDue()) writeSnapshot();
+  if (snapshotDue()) writeSnapshot(!replay);
   return nextTimeStep();
 }
 

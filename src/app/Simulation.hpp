@@ -69,7 +69,8 @@ private:
   void openLogs(const std::filesystem::path& dir, bool resumed, RunLog& log);
   void resolveOutputFields();
   bool snapshotDue() const;
-  void writeSnapshot();
+  void writeSnapshot(bool write = true);
+  void advanceSnapshotClock(const std::string& base);
   void record(double dt, std::int64_t step, Clock::time_point wall0);
   void banner(RunLog& log, const std::filesystem::path& dir);
   // RunOutput.cpp: the closing summary

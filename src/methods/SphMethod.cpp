@@ -312,7 +312,7 @@ bool SphMethod<Dim>::gather(ParticleReport& fault, ParticleId mine, std::size_t 
     fault.id = s_[f_.id][row];
     fault.material = s_[f_.material][row];
     fault.body = s_[f_.body][row];
-    fault.neighbors = s_[cost_][row];
+    fault.neighbors = s_[cost_][row] - 1; // the cost counts the particle itself
     for (int d = 0; d < Dim; ++d) {
       fault.x[static_cast<std::size_t>(d)] = s_[f_.x][row][d];
       fault.v[static_cast<std::size_t>(d)] = s_[f_.v][row][d];

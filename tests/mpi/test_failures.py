@@ -71,7 +71,7 @@ try:
     check(material == "gas" and body == "gas", "material and body by name")
     check(r.stderr.count("error:") == 1, "one error message")
     for words in ("x reference", "x its body's spacing", "neighbors", "last good state",
-                  "continue with --restart latest", "hint:"):
+                  "--restart latest", "hint:"):
         check(words in r.stderr, f"the message says '{words}'")
     rows = history(out1, step, pid)
     check(rows is not None and len(rows) >= 2, "the particle's history file has rows")

@@ -50,8 +50,8 @@ struct LinearEos {
 // far is pulled in further, without bound (the collapses of tools/stress). In compression this
 // code holds Gamma rho = Gamma0 rho0 instead, the usual Mie-Gruneisen assumption (Gamma/V
 // constant): the cold factor becomes 1 - Gamma0 eta / (2 (1 + eta)), positive up to rho/rho0 =
-// 2/(2 - Gamma0) (no limit for Gamma0 <= 2), equal to Lam's in value and slope at eta = 0 and
-// within Gamma0 eta^2/2 of it (1e-4 relative at 1% compression).
+// Gamma0/(Gamma0 - 2) (101 for copper; no limit for Gamma0 <= 2), equal to Lam's in value and
+// slope at eta = 0 and within Gamma0 eta^2/2 of it (1e-4 relative at 1% compression).
 // In tension (eta < 0) Lam's form is kept, and the Hugoniot terms beyond the linear one are
 // dropped, the usual practice for this fit (the cubic is a compression fit and turns over in
 // expansion).
