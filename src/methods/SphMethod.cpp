@@ -251,23 +251,31 @@ double SphMethod<Dim>::stableTimeStep(double floor, std::int64_t step, double ti
   const auto [dtLocal, which] = solver_->stableTimeStep();
   const double dt = mpi_.min(dtLocal);
   if (dt > floor && std::isfinite(dt)) return dt;
-  // The lowest id among the particles that set the step, wherever they are.
-  const bool setter = dtLocal == dt && s_.localCount() > 0;
-  const ParticleId mine = setter ? s_[f_.id][which] : std::numeric_limits<ParticleId>::max();
   ParticleReport fault;
   fault.kind = ParticleReport::Kind::Collapse;
   fault.step = step;
   fault.time = time;
   fault.dt = dt;
-  raise(fault, mine, which);
+  raise(fault, setterId(dtLocal, dt, which), which);
+}
+
+// This rank's candidate for the particle that sets the global step dt (max() for none): the
+// lowest id among the candidates of all ranks is the one named.
+template <int Dim>
+ParticleId SphMethod<Dim>::setterId(double dtLocal, double dt, std::size_t which) const {
+  const bool setter = dtLocal == dt && s_.localCount() > 0;
+  return setter ? s_[f_.id][which] : std::numeric_limits<ParticleId>::max();
 }
 
 template <int Dim> void SphMethod<Dim>::checkFinite(std::int64_t step, double time) const {
   const auto id = s_[f_.id];
   ParticleId bad = std::numeric_limits<ParticleId>::max();
   std::size_t row = 0;
-  for (std::size_t i = 0; i < s_.localCount(); ++i)
-    if (id[i] < bad && !badFields(i).empty()) bad = id[i], row = i;
+  for (std::size_t i = 0; i < s_.localCount(); ++i) {
+    bool any = false;
+    if (id[i] < bad) forEachBadField(i, [&any](const char*) { any = true; });
+    if (any) bad = id[i], row = i;
+  }
   ParticleId first;
   MPI_Allreduce(&bad, &first, 1, MPI_UINT64_T, MPI_MIN, mpi_.comm());
   if (first == std::numeric_limits<ParticleId>::max()) return;
@@ -278,12 +286,18 @@ template <int Dim> void SphMethod<Dim>::checkFinite(std::int64_t step, double ti
   raise(fault, bad, row);
 }
 
-// The fields of owned row i that no state can have: non-finite values, a density or smoothing
-// length that is not positive.
 template <int Dim> std::string SphMethod<Dim>::badFields(std::size_t i) const {
   std::string out;
-  const auto add = [&out](bool bad, const char* name) {
-    if (bad) out += (out.empty() ? "" : ", ") + std::string(name);
+  forEachBadField(
+      i, [&out](const char* name) { out += (out.empty() ? "" : ", ") + std::string(name); });
+  return out;
+}
+
+template <int Dim>
+template <class Visit>
+void SphMethod<Dim>::forEachBadField(std::size_t i, Visit&& visit) const {
+  const auto add = [&visit](bool bad, const char* name) {
+    if (bad) visit(name);
   };
   add(!s_[f_.x][i].allFinite(), "position");
   add(!s_[f_.v][i].allFinite(), "velocity");
@@ -294,7 +308,6 @@ template <int Dim> std::string SphMethod<Dim>::badFields(std::size_t i) const {
   add(!std::isfinite(s_[f_.cs][i]), "sound_speed");
   if (f_.hasStrength()) add(!s_[f_.S][i].allFinite(), "stress");
   if (f_.anisotropic()) add(!s_[f_.H][i].allFinite(), "smoothing");
-  return out;
 }
 
 // Every rank calls this with its candidate (max() for none; `row` its owned row): the lowest
@@ -351,12 +364,11 @@ void SphMethod<Dim>::raise(ParticleReport fault, ParticleId mine, std::size_t ro
 template <int Dim> ParticleReport SphMethod<Dim>::timeStepSetter() const {
   const auto [dtLocal, which] = solver_->stableTimeStep();
   const double dt = mpi_.min(dtLocal);
-  const bool setter = dtLocal == dt && s_.localCount() > 0;
   ParticleReport fault;
   fault.kind = ParticleReport::Kind::Collapse;
   fault.dt = dt;
   std::string fields;
-  gather(fault, setter ? s_[f_.id][which] : std::numeric_limits<ParticleId>::max(), which, fields);
+  gather(fault, setterId(dtLocal, dt, which), which, fields);
   return fault;
 }
 

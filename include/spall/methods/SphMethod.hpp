@@ -52,7 +52,11 @@ private:
   void forces();
   materials::MaterialFields materialFields();
   void checkFinite(std::int64_t step, double time) const;
+  // The fields of owned row i that no state can have (non-finite, non-positive density or h):
+  // visit(name) for each; badFields joins their names.
+  template <class Visit> void forEachBadField(std::size_t i, Visit&& visit) const;
   std::string badFields(std::size_t i) const;
+  ParticleId setterId(double dtLocal, double dt, std::size_t which) const;
   bool gather(ParticleReport& fault, ParticleId mine, std::size_t row, std::string& fields) const;
   [[noreturn]] void raise(ParticleReport fault, ParticleId mine, std::size_t row) const;
   void balance(std::int64_t step);
