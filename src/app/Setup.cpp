@@ -53,11 +53,12 @@ std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck
   const auto& solver = deck.solver;
   const bool solids = std::any_of(deck.materials.begin(), deck.materials.end(),
                                   [](const auto& m) { return m.strength.type != "none"; });
-  if (!solids &&
-      (solver.artificial_stress.enabled || solver.velocity_gradient != VelocityGradient::Sph))
+  if (!solids && (solver.artificial_stress.enabled || solver.artificial_viscosity.reconstruct ||
+                  solver.velocity_gradient != VelocityGradient::Sph))
     throw DeckError(solver.where,
-                    "solver.artificial_stress and solver.velocity_gradient act on the stress of "
-                    "materials with strength, and no material in this deck has one");
+                    "solver.artificial_stress, solver.artificial_viscosity.reconstruction and "
+                    "solver.velocity_gradient act on the stress or velocity gradient of materials "
+                    "with strength, and no material in this deck has one");
   std::vector<std::int32_t> fixed;
   for (std::size_t b = 0; b < deck.bodies.size(); ++b)
     if (deck.bodies[b].fixed) fixed.push_back(static_cast<std::int32_t>(b));
@@ -73,7 +74,9 @@ std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck
   list.push_back(std::make_unique<methods::Hydro<Dim>>());
   if (solver.artificial_viscosity.balsara)
     list.push_back(std::make_unique<methods::BalsaraSwitch<Dim>>());
-  if (solids) list.push_back(std::make_unique<methods::Strength<Dim>>(roomTemperature));
+  if (solids)
+    list.push_back(std::make_unique<methods::Strength<Dim>>(
+        roomTemperature, solver.artificial_viscosity.reconstruct));
   if (solids && solver.velocity_gradient == VelocityGradient::Corrected)
     list.push_back(std::make_unique<methods::KernelCorrection<Dim>>());
   if (solver.method == "asph") list.push_back(std::make_unique<methods::SmoothingTensor<Dim>>());

@@ -126,11 +126,15 @@ void DeckReader::read(Deck& deck) {
     throw DeckError(top.whereValue("body"), "the deck needs at least one [[body]]");
 
   // Monaghan's artificial stress is on by default for decks with solids: without it, solids in
-  // tension pair up and tear (the rubber rings of decks/README.md, "Safe defaults").
-  if (!deck.solver.artificial_stress.given)
-    deck.solver.artificial_stress.enabled =
-        std::any_of(deck.materials.begin(), deck.materials.end(),
-                    [](const MaterialConfig& m) { return m.strength.type != "none"; });
+  // tension pair up and tear (the rubber rings of decks/README.md, "Safe defaults"). So is the
+  // linearly reconstructed viscosity: the plain one acts in plastic flow as a shear viscosity
+  // comparable to the flow stress (a Taylor bar's face comes out 10% narrow; decks/README.md).
+  const bool solids =
+      std::any_of(deck.materials.begin(), deck.materials.end(),
+                  [](const MaterialConfig& m) { return m.strength.type != "none"; });
+  if (!deck.solver.artificial_stress.given) deck.solver.artificial_stress.enabled = solids;
+  if (!deck.solver.artificial_viscosity.reconstructGiven)
+    deck.solver.artificial_viscosity.reconstruct = solids;
 
   entries("energy_source", deck.energy_sources,
           [&](const TableReader& r, EnergySourceConfig& e) { readEnergySource(r, e); });

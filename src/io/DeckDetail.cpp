@@ -63,7 +63,7 @@ const std::map<std::string, Names, std::less<>>& schema() {
        {"method", "kernel", "nodes_per_h", "cfl", "allow_unstable_cfl", "density",
         "artificial_viscosity", "h_min", "h_max", "h_max_ratio", "max_aspect_ratio", "stress_form",
         "artificial_stress", "velocity_gradient", "contact"}},
-      {"solver.artificial_viscosity", {"alpha", "beta", "balsara"}},
+      {"solver.artificial_viscosity", {"alpha", "beta", "balsara", "reconstruction"}},
       {"solver.artificial_stress", {"epsilon", "exponent"}},
       {"decomposition",
        {"curve", "partitioner", "rebalance_every", "imbalance_threshold", "reproducible"}},

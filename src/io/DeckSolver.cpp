@@ -51,6 +51,10 @@ void readSolver(const TableReader& r, SolverConfig& s) {
     c.beta = av.number("beta").value_or(c.beta);
     av.check(c.beta >= 0.0, "beta", ">= 0", c.beta);
     c.balsara = av.boolean("balsara").value_or(c.balsara);
+    if (av.string("reconstruction")) {
+      c.reconstructGiven = true;
+      c.reconstruct = av.choice("reconstruction", {"linear", "none"}, "linear") == "linear";
+    }
   }
   if (const auto* t = r.subtable("artificial_stress")) {
     const TableReader as = TableReader(*t, r.context().child("artificial_stress"), r.deckPath());

@@ -208,6 +208,7 @@ private:
     // S_j / rho_j^2 (or S_j / rho_j for the product form) of every row, ghosts included, once:
     // the pair loop then only adds and multiplies.
     [[maybe_unused]] const bool artificialStress = cfg_.artificial_stress.enabled;
+    [[maybe_unused]] const bool reconstruct = Solid && cfg_.artificial_viscosity.reconstruct;
     const auto Bcorr = Corrected ? s_[f_.B] : std::span<Tensor<3>>{};
     [[maybe_unused]] const int nAS = cfg_.artificial_stress.exponent;
     // f_ij = W(r_ij)/W(dp) with dp = h/n_h, the initial spacing in units of h.
@@ -217,6 +218,16 @@ private:
       for (std::size_t j = 0; j < s_.size(); ++j)
         sOverRho_[j] =
             Sdev[j].template topLeftCorner<Dim, Dim>() / (product ? rho[j] : rho[j] * rho[j]);
+      // The strain rates of the reconstruction, of every row before this loop overwrites L (the
+      // owned rows must read the previous loop's L, as ghosts do: else the sums depend on the
+      // row order, and so on the rank count).
+      if (reconstruct) {
+        strainRate_.resize(s_.size());
+        for (std::size_t j = 0; j < s_.size(); ++j) {
+          const MatD Lj = Lgrad[j].template topLeftCorner<Dim, Dim>();
+          strainRate_[j] = 0.5 * (Lj + Lj.transpose());
+        }
+      }
       if (artificialStress) {
         artificialStress_.resize(s_.size());
         // Only solids: a fluid in a multi-material deck keeps the plain pressure term.
@@ -335,8 +346,10 @@ private:
         }
 
         const Vec<Dim> vij = vi - v[j];
-        const double vr = vij.dot(xij);
+        double vr = vij.dot(xij);
         double Pij = 0.0;
+        if constexpr (Solid)
+          if (reconstruct && vr < 0.0) vr = reconstructedApproach(vr, xij, i, j);
         if (vr < 0.0) {
           // Monaghan & Gingold (1983) viscosity (Lam et al. 2001, Eqs. 22-24).
           const double hbar = Aniso ? hbarOverR * std::sqrt(r2) : 0.5 * (hi + h[j]);
@@ -492,6 +505,13 @@ private:
   std::vector<RowScratch> rowScratch_;        // scratch of the force loop
   std::vector<Tensor<Dim>> sOverRho_;         // scratch of the force loop (solids)
   std::vector<Tensor<Dim>> artificialStress_; // R of every row (solids, when enabled)
+  std::vector<Tensor<Dim>> strainRate_;       // sym L of every row (reconstructed viscosity)
+  // Out of line: the pair loop is register-bound, and only approaching pairs call it.
+  [[gnu::noinline]] double reconstructedApproach(double vr, const Vec<Dim>& xij, std::size_t i,
+                                                 std::size_t j) const {
+    return pair::reconstructedApproach(vr, xij.dot(strainRate_[i] * xij),
+                                       xij.dot(strainRate_[j] * xij));
+  }
   ParticleStore& s_;
   ParticleFields<Dim> f_;
   kernels::PsiTable psi_;

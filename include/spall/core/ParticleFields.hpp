@@ -71,9 +71,11 @@ template <int Dim> struct ParticleFields {
     divv = s.add<double>("velocity_divergence", kCheckpoint | kHalo);
     curlv = s.add<double>("velocity_curl", kCheckpoint | kHalo);
   }
-  void registerStrength(ParticleStore& s) {
+  // gradientInHalo: neighbors read L (the reconstructed artificial viscosity).
+  void registerStrength(ParticleStore& s, bool gradientInHalo = false) {
     S = s.add<Tensor<3>>("deviatoric_stress", kCheckpoint | kHalo | kReflectTensor);
-    L = s.add<Tensor<3>>("velocity_gradient", kCheckpoint);
+    L = s.add<Tensor<3>>("velocity_gradient",
+                         kCheckpoint | (gradientInHalo ? kHalo | kReflectTensor : 0u));
     plasticStrain = s.add<double>("plastic_strain", kOutput | kCheckpoint);
     temperature = s.add<double>("temperature", kOutput | kCheckpoint);
   }

@@ -22,10 +22,18 @@ enum class StressForm {
   RhoProduct  // (sigma_i + sigma_j)/(rho_i rho_j): stable at interfaces of very unequal density
 };
 
+// reconstruct: the pair's approach speed is taken from the velocities reconstructed linearly to
+// the pair's midpoint with each particle's velocity gradient L, limited by van Leer's limiter
+// (Frontiere, Raskin & Owen 2017, CRKSPH, Sec. 2.4; Rosswog 2015): zero for any linear velocity
+// field (uniform compression, shear, plastic flow), the full viscosity across a shock, where the
+// two gradients disagree. Solids only (it reads the velocity gradient strength already computes);
+// on by default for them (the deck reader decides; decks/README.md).
 struct ArtificialViscosityConfig {
   double alpha = 1.0;
   double beta = 2.0;
   bool balsara = false;
+  bool reconstruct = false;
+  bool reconstructGiven = false; // the deck sets artificial_viscosity.reconstruction
 };
 
 // Monaghan's artificial stress against the tensile instability (Gray, Monaghan & Swift 2001):
