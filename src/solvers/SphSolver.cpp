@@ -349,7 +349,7 @@ private:
         double vr = vij.dot(xij);
         double Pij = 0.0;
         if constexpr (Solid)
-          if (reconstruct && vr < 0.0) vr = reconstructedApproach(vr, xij, i, j);
+          if (reconstruct && vr < 0.0) vr = reconstructedApproach(vr, xij, i, j, qMean);
         if (vr < 0.0) {
           // Monaghan & Gingold (1983) viscosity (Lam et al. 2001, Eqs. 22-24).
           const double hbar = Aniso ? hbarOverR * std::sqrt(r2) : 0.5 * (hi + h[j]);
@@ -508,9 +508,9 @@ private:
   std::vector<Tensor<Dim>> strainRate_;       // sym L of every row (reconstructed viscosity)
   // Out of line: the pair loop is register-bound, and only approaching pairs call it.
   [[gnu::noinline]] double reconstructedApproach(double vr, const Vec<Dim>& xij, std::size_t i,
-                                                 std::size_t j) const {
+                                                 std::size_t j, double q) const {
     return pair::reconstructedApproach(vr, xij.dot(strainRate_[i] * xij),
-                                       xij.dot(strainRate_[j] * xij));
+                                       xij.dot(strainRate_[j] * xij), q, 1.0 / cfg_.nodes_per_h);
   }
   ParticleStore& s_;
   ParticleFields<Dim> f_;

@@ -26,9 +26,14 @@ inline double viscosity(double vr, double r2, double hbar, double cbar, double r
 // 4 a b / (a + b)^2 (symmetric in i and j, so the viscosity stays antisymmetric and conserving),
 // 0 where the two gradients disagree in sign: a linear field (uniform compression, shear, plastic
 // flow) leaves no approach, a shock, where the gradients differ, keeps its viscosity. Never an
-// approach where the pair separates.
-inline double reconstructedApproach(double vr, double a, double b) {
-  const double phi = a * b > 0.0 ? std::min(1.0, 4.0 * a * b / ((a + b) * (a + b))) : 0.0;
+// approach where the pair separates. Pairs closer than the mean spacing (q = r/h below qc =
+// 1/n_h) are about to interpenetrate: there phi fades as exp(-((q - qc)/0.2)^2) and the full
+// viscosity returns (Rosswog 2015, Sec. 2.3: his eta_crit is this qc, his fold 0.2); without
+// that, particles next to a rigid wall, reconstructed exactly from their own images, close in
+// on the wall and cross it.
+inline double reconstructedApproach(double vr, double a, double b, double q, double qc) {
+  double phi = a * b > 0.0 ? std::min(1.0, 4.0 * a * b / ((a + b) * (a + b))) : 0.0;
+  if (q < qc) phi *= std::exp(-25.0 * (q - qc) * (q - qc));
   return std::min(vr - 0.5 * phi * (a + b), 0.0);
 }
 

@@ -12,23 +12,38 @@
 
 using namespace spall;
 
+namespace {
+constexpr double kQc = 1.0 / 1.5; // the mean spacing in units of h at n_h = 1.5
+} // namespace
+
 TEST(ViscosityReconstruction, LinearFieldLeavesNoApproach) {
   // v = G x: v_ij . x_ij = x . G x = a = b, and the limiter is 1.
   const double vr = -3.0;
-  EXPECT_EQ(solvers::pair::reconstructedApproach(vr, vr, vr), 0.0);
+  EXPECT_EQ(solvers::pair::reconstructedApproach(vr, vr, vr, 1.0, kQc), 0.0);
 }
 
 TEST(ViscosityReconstruction, DisagreeingGradientsKeepTheApproach) {
   // Opposite signs (one side compresses, the other expands): the limiter is 0.
-  EXPECT_EQ(solvers::pair::reconstructedApproach(-2.0, -4.0, 1.0), -2.0);
+  EXPECT_EQ(solvers::pair::reconstructedApproach(-2.0, -4.0, 1.0, 1.0, kQc), -2.0);
   // Gradients in the ratio r = 10: phi = 40/121, a third of the linear part is removed.
   const double a = -10.0, b = -1.0, vr = -20.0;
   const double phi = 4.0 * a * b / ((a + b) * (a + b));
-  EXPECT_DOUBLE_EQ(solvers::pair::reconstructedApproach(vr, a, b), vr - 0.5 * phi * (a + b));
+  EXPECT_DOUBLE_EQ(solvers::pair::reconstructedApproach(vr, a, b, 1.0, kQc),
+                   vr - 0.5 * phi * (a + b));
   // Symmetric in the pair (r -> 1/r), and never an approach from a separating reconstruction.
-  EXPECT_EQ(solvers::pair::reconstructedApproach(vr, a, b),
-            solvers::pair::reconstructedApproach(vr, b, a));
-  EXPECT_EQ(solvers::pair::reconstructedApproach(-0.5, -4.0, -4.0), 0.0);
+  EXPECT_EQ(solvers::pair::reconstructedApproach(vr, a, b, 1.0, kQc),
+            solvers::pair::reconstructedApproach(vr, b, a, 1.0, kQc));
+  EXPECT_EQ(solvers::pair::reconstructedApproach(-0.5, -4.0, -4.0, 1.0, kQc), 0.0);
+}
+
+TEST(ViscosityReconstruction, CloseParticlesGetTheViscosityBack) {
+  // Closer than the mean spacing the reconstruction fades (Rosswog 2015): at the spacing nothing
+  // changes, 0.2 h closer phi falls to 1/e, 0.6 h closer the approach is almost all back.
+  const double vr = -3.0;
+  EXPECT_EQ(solvers::pair::reconstructedApproach(vr, vr, vr, kQc, kQc), 0.0);
+  EXPECT_NEAR(solvers::pair::reconstructedApproach(vr, vr, vr, kQc - 0.2, kQc),
+              vr * (1.0 - std::exp(-1.0)), 1e-12);
+  EXPECT_LT(solvers::pair::reconstructedApproach(vr, vr, vr, kQc - 0.6, kQc), 0.99 * vr);
 }
 
 namespace {
