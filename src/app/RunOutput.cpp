@@ -19,6 +19,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
+constexpr const char* kFragmentsHeader = "time,fragment,particles,mass,x,y,z,vx,vy,vz";
+
 struct HistoryRow {
   std::int64_t step = 0;
   double time = 0.0, dt = 0.0;
@@ -133,16 +135,21 @@ template <int Dim> void Simulation<Dim>::openLogs(const fs::path& dir, bool resu
       // Whatever a crashed run wrote after its checkpoint goes; the rest continues.
       truncateHistory(dir / "history.csv", step_);
       truncateProbes(dir / "probes.csv", time_);
+      truncateProbes(dir / "fragments.csv", time_); // rows start with the time too
       removeSnapshotsFrom(dir / "snapshots", snapshotIndex_);
       io::writeSeriesXdmf((dir / "snapshots" / "series.xmf").string(), series_);
       removeStaleTemporaries(dir / "checkpoints");
       history_ = io::CsvLog::append((dir / "history.csv").string(), historyHeader);
       if (!probes_->empty())
         probesCsv_ = io::CsvLog::append((dir / "probes.csv").string(), "time,probe,field,value");
+      if (deck_.fragments)
+        fragmentsCsv_ = io::CsvLog::append((dir / "fragments.csv").string(), kFragmentsHeader);
     } else {
       history_ = io::CsvLog((dir / "history.csv").string(), historyHeader);
       if (!probes_->empty())
         probesCsv_ = io::CsvLog((dir / "probes.csv").string(), "time,probe,field,value");
+      if (deck_.fragments)
+        fragmentsCsv_ = io::CsvLog((dir / "fragments.csv").string(), kFragmentsHeader);
     }
   }
   MPI_Barrier(mpi_.comm());
@@ -182,6 +189,7 @@ template <int Dim> bool Simulation<Dim>::snapshotDue() const {
 template <int Dim> void Simulation<Dim>::writeSnapshot(bool write) {
   method_->stats().phases.time(methods::kOutput, [&] {
     if (!write) return advanceSnapshotClock(fmt::format("snap_{:06d}", snapshotIndex_));
+    if (deck_.fragments) writeFragments();
     const std::size_t n = store_.localCount();
     std::vector<io::SnapshotField> fields;
     std::vector<FieldInfo> infos;
@@ -229,6 +237,21 @@ template <int Dim> void Simulation<Dim>::writeSnapshot(bool write) {
     advanceSnapshotClock(base);
     if (mpi_.root()) io::writeSeriesXdmf((snapDir / "series.xmf").string(), series_);
   });
+}
+
+// Friends of friends now: the `fragment` field of the snapshot about to be written, and the
+// catalogue's rows in fragments.csv (rank 0), largest fragment first.
+template <int Dim> void Simulation<Dim>::writeFragments() {
+  const diagnostics::FragmentCatalogue cat =
+      method_->findFragments(deck_.fragments->link_length, deck_.fragments->damage_threshold);
+  if (!fragmentsCsv_.open()) return;
+  for (std::size_t k = 0; k < cat.fragments.size(); ++k) {
+    const auto& f = cat.fragments[k];
+    fragmentsCsv_.row(
+        fmt::format("{:.17g},{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}", time_,
+                    k, f.particles, f.mass, f.x[0], f.x[1], f.x[2], f.v[0], f.v[1], f.v[2]));
+  }
+  fragmentsCsv_.flush();
 }
 
 // The bookkeeping of a snapshot (kept on every rank alike: it is part of the checkpointed state).

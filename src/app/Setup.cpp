@@ -1,6 +1,7 @@
 #include "spall/app/Setup.hpp"
 
 #include "spall/methods/modules/BalsaraSwitch.hpp"
+#include "spall/methods/modules/Damage.hpp"
 #include "spall/methods/modules/FixedBodies.hpp"
 #include "spall/methods/modules/FrictionlessContact.hpp"
 #include "spall/methods/modules/Hydro.hpp"
@@ -40,11 +41,34 @@ std::optional<materials::Strength> buildStrength(const StrengthConfig& c) {
   return std::nullopt;
 }
 
+std::optional<materials::Damage> buildDamage(const DamageConfig& c) {
+  if (c.type == "grady_kipp") return materials::GradyKipp{c.weibull_k, c.weibull_m, c.crack_speed};
+  if (c.type == "johnson_cook")
+    return materials::JohnsonCookDamage{c.D1,
+                                        c.D2,
+                                        c.D3,
+                                        c.D4,
+                                        c.D5,
+                                        c.reference_strain_rate,
+                                        c.room_temperature,
+                                        c.melt_temperature};
+  return std::nullopt;
+}
+
+materials::Erosion erosionOf(const std::string& name) {
+  if (name == "no_tension") return materials::Erosion::NoTension;
+  if (name == "no_shear") return materials::Erosion::NoShear;
+  if (name == "zero_stress") return materials::Erosion::ZeroStress;
+  return materials::Erosion::None;
+}
+
 } // namespace
 
 std::vector<materials::Material> buildMaterials(const Deck& deck) {
   std::vector<materials::Material> out;
-  for (const auto& m : deck.materials) out.push_back({buildEos(m), buildStrength(m.strength)});
+  for (const auto& m : deck.materials)
+    out.push_back(
+        {buildEos(m), buildStrength(m.strength), buildDamage(m.damage), erosionOf(m.erosion)});
   return out;
 }
 
@@ -77,6 +101,16 @@ std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck
   if (solids)
     list.push_back(std::make_unique<methods::Strength<Dim>>(
         roomTemperature, solver.artificial_viscosity.reconstruct));
+  std::vector<std::optional<materials::GradyKipp>> flaws;
+  bool damage = false;
+  for (const auto& m : deck.materials) {
+    damage = damage || m.damage.type != "none";
+    flaws.push_back(m.damage.type == "grady_kipp"
+                        ? std::optional<materials::GradyKipp>(materials::GradyKipp{
+                              m.damage.weibull_k, m.damage.weibull_m, m.damage.crack_speed})
+                        : std::nullopt);
+  }
+  if (damage) list.push_back(std::make_unique<methods::Damage<Dim>>(flaws, deck.run.seed));
   if (solids && solver.velocity_gradient == VelocityGradient::Corrected)
     list.push_back(std::make_unique<methods::KernelCorrection<Dim>>());
   if (solver.method == "asph") list.push_back(std::make_unique<methods::SmoothingTensor<Dim>>());

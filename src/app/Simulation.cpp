@@ -36,6 +36,7 @@ Simulation<Dim>::Simulation(const Deck& deck, const parallel::MpiContext& mpi)
   // written. Checkpointed: a restart on the same rank count then rebalances exactly as the run
   // would have.
   cost_ = store_.add<std::int32_t>("cost", kCheckpoint);
+  if (deck.fragments) f_.fragment = store_.add<std::int64_t>("fragment", kOutput);
   parallel::DecompositionConfig dc;
   dc.curve =
       deck.decomposition.curve == "morton" ? parallel::Curve::Morton : parallel::Curve::Hilbert;
@@ -49,9 +50,9 @@ Simulation<Dim>::Simulation(const Deck& deck, const parallel::MpiContext& mpi)
     if (log_) log_->note(line);
   };
   method_ = std::make_unique<methods::SphMethod<Dim>>(
-      mpi, std::move(setup), materials::MaterialUpdate(materials_), std::move(modules), store_, f_,
-      cost_, *decomposition_);
-  probes_ = std::make_unique<diagnostics::Probes<Dim>>(deck.probes);
+      mpi, std::move(setup), materials::MaterialUpdate(materials_, deck_.run.seed),
+      std::move(modules), store_, f_, cost_, *decomposition_);
+  probes_ = std::make_unique<diagnostics::Probes<Dim>>(deck.probes, store_);
   resolveOutputFields();
 }
 
@@ -62,7 +63,9 @@ template <int Dim> void Simulation<Dim>::generate() {
   applyEnergySources<Dim>(deck_, store_, f_);
   decomposition_->distributeInitial(store_);
   totalParticles_ = mpi_.sum(static_cast<std::uint64_t>(store_.localCount()));
-  method_->start();
+  std::vector<std::uint64_t> bodyParticles;
+  for (const auto& b : bodies_) bodyParticles.push_back(b.particles);
+  method_->start({bodyParticles});
 }
 
 // A continued run: the first of `candidates` that reads back completely. Throws

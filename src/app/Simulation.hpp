@@ -70,6 +70,7 @@ private:
   void resolveOutputFields();
   bool snapshotDue() const;
   void writeSnapshot(bool write = true);
+  void writeFragments();
   void advanceSnapshotClock(const std::string& base);
   void record(double dt, std::int64_t step, Clock::time_point wall0);
   void banner(RunLog& log, const std::filesystem::path& dir);
@@ -91,7 +92,7 @@ private:
   std::vector<std::string> outputFields_;
   std::vector<std::string> deferredWarnings_;
   std::vector<std::pair<double, std::string>> series_;
-  io::CsvLog history_, probesCsv_;
+  io::CsvLog history_, probesCsv_, fragmentsCsv_;
   std::filesystem::path dir_;
   diagnostics::Totals totals0_, last_;
   double time_ = 0.0;

@@ -2,6 +2,7 @@
 
 #include "spall/kernels/Kernels.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
@@ -34,12 +35,25 @@ double fieldValue(const ProbeField& pf, const ParticleStore& s, const ParticleFi
     return s[f.m][i];
   case ProbeField::Kind::SmoothingLength:
     return s[f.h][i];
+  case ProbeField::Kind::Column: {
+    const ColumnBase& c = *s.columns()[static_cast<std::size_t>(pf.a)];
+    if (c.info().scalar == ScalarType::I32) return static_cast<const std::int32_t*>(c.raw())[i];
+    if (c.info().scalar == ScalarType::I64)
+      return static_cast<double>(static_cast<const std::int64_t*>(c.raw())[i]);
+    return static_cast<const double*>(c.raw())[i];
+  }
   }
   return 0.0;
 }
+
+// A scalar (double or int32) snapshot field of the store.
+bool probeableColumn(const ColumnBase& c) {
+  const FieldInfo& info = c.info();
+  return (info.flags & kOutput) != 0 && info.shape.empty() && info.scalar != ScalarType::U64;
+}
 } // namespace
 
-std::vector<std::string> probeFieldNames(int dim) {
+std::vector<std::string> probeFieldNames(int dim, const ParticleStore* store) {
   std::vector<std::string> names;
   for (int a = 0; a < dim; ++a) names.push_back(fmt::format("position_{}", kAxes[a]));
   for (int a = 0; a < dim; ++a) names.push_back(fmt::format("velocity_{}", kAxes[a]));
@@ -48,10 +62,16 @@ std::vector<std::string> probeFieldNames(int dim) {
   for (const char* n : {"pressure", "density", "specific_internal_energy", "sound_speed", "mass",
                         "smoothing_length"})
     names.emplace_back(n);
+  if (store)
+    for (const auto& c : store->columns())
+      if (probeableColumn(*c) &&
+          std::find(names.begin(), names.end(), c->info().name) == names.end())
+        names.push_back(c->info().name);
   return names;
 }
 
-ProbeField resolveProbeField(const std::string& name, int dim, const SourceLocation& where) {
+ProbeField resolveProbeField(const std::string& name, int dim, const SourceLocation& where,
+                             const ParticleStore* store) {
   using K = ProbeField::Kind;
   auto axis = [&](char c) -> int {
     for (int a = 0; a < dim; ++a)
@@ -70,16 +90,22 @@ ProbeField resolveProbeField(const std::string& name, int dim, const SourceLocat
   if (name == "sound_speed") return {K::SoundSpeed, 0, 0, name};
   if (name == "mass") return {K::Mass, 0, 0, name};
   if (name == "smoothing_length") return {K::SmoothingLength, 0, 0, name};
+  if (store)
+    for (std::size_t c = 0; c < store->columns().size(); ++c)
+      if (store->columns()[c]->info().name == name && probeableColumn(*store->columns()[c]))
+        return {K::Column, static_cast<int>(c), 0, name};
   std::string list;
-  for (const auto& n : probeFieldNames(dim)) list += (list.empty() ? "" : ", ") + n;
+  for (const auto& n : probeFieldNames(dim, store)) list += (list.empty() ? "" : ", ") + n;
   throw DeckError(where,
                   fmt::format("unknown probe field '{}' in {}D (available: {})", name, dim, list));
 }
 
-template <int Dim> Probes<Dim>::Probes(const std::vector<ProbeConfig>& config) {
+template <int Dim>
+Probes<Dim>::Probes(const std::vector<ProbeConfig>& config, const ParticleStore& store) {
   for (const auto& c : config) {
     Probe p{c, {}, 0, 0};
-    for (const auto& name : c.fields) p.fields.push_back(resolveProbeField(name, Dim, c.where));
+    for (const auto& name : c.fields)
+      p.fields.push_back(resolveProbeField(name, Dim, c.where, &store));
     probes_.push_back(std::move(p));
   }
 }

@@ -258,11 +258,22 @@ ScalarType scalarOf(hid_t type, const std::string& path, const std::string& name
   if (cls == H5T_FLOAT && size == 8) return ScalarType::F64;
   if (cls == H5T_INTEGER && size == 8 && H5Tget_sign(type) == H5T_SGN_NONE) return ScalarType::U64;
   if (cls == H5T_INTEGER && size == 4 && H5Tget_sign(type) == H5T_SGN_2) return ScalarType::I32;
+  if (cls == H5T_INTEGER && size == 8 && H5Tget_sign(type) == H5T_SGN_2) return ScalarType::I64;
   throw CheckpointError(path + ": particle field '" + name + "' has an unsupported type");
 }
 
 const char* scalarName(ScalarType t) {
-  return t == ScalarType::F64 ? "float64" : t == ScalarType::U64 ? "uint64" : "int32";
+  switch (t) {
+  case ScalarType::F64:
+    return "float64";
+  case ScalarType::U64:
+    return "uint64";
+  case ScalarType::I32:
+    return "int32";
+  case ScalarType::I64:
+    return "int64";
+  }
+  return "?";
 }
 
 std::string shapeText(const std::vector<int>& shape) {

@@ -81,7 +81,9 @@ private:
   void readBoundary(const TableReader& r, BoundaryConfig& b) const;
   void readOutput(const TableReader& r, OutputConfig& o, double endTime) const;
   void readCheckpoint(const TableReader& r, CheckpointConfig& c) const;
+  void readFragments(const TableReader& r, FragmentsConfig& c, const SolverConfig& s) const;
   void readStrength(const TableReader& r, StrengthConfig& c) const;
+  void readDamage(const TableReader& r, DamageConfig& c) const;
   void readProbe(const TableReader& r, ProbeConfig& p) const;
 
   const toml::table& root_;
@@ -146,6 +148,8 @@ void DeckReader::read(Deck& deck) {
   readOutput(reader(*output, Context{}.child("output")), deck.output, deck.run.end_time);
   if (const auto* t = top.subtable("checkpoint"))
     readCheckpoint(reader(*t, Context{}.child("checkpoint")), deck.checkpoint.emplace());
+  if (const auto* t = top.subtable("fragments"))
+    readFragments(reader(*t, Context{}.child("fragments")), deck.fragments.emplace(), deck.solver);
 
   names.clear();
   entries("probe", deck.probes, [&](const TableReader& r, ProbeConfig& p) {
@@ -206,7 +210,7 @@ void DeckReader::readDecomposition(const TableReader& r, DecompositionConfig& d)
 }
 
 void DeckReader::readMaterial(const TableReader& r, MaterialConfig& m) const {
-  for (const std::string_view later : {"damage", "erosion", "porosity"})
+  for (const std::string_view later : {"porosity"})
     if (r.has(later))
       r.fail(later,
              "'" + std::string(later) + "' in " + r.context().human + " is not available yet");
@@ -221,6 +225,59 @@ void DeckReader::readMaterial(const TableReader& r, MaterialConfig& m) const {
   if (const toml::table* t = r.subtable("strength")) {
     const TableReader s = reader(*t, r.context().child("strength"));
     readStrength(s, m.strength);
+  }
+  if (const toml::table* t = r.subtable("damage")) {
+    readDamage(reader(*t, r.context().child("damage")), m.damage);
+    const bool plastic = m.strength.type == "von_mises" || m.strength.type == "johnson_cook";
+    if (m.strength.type == "none")
+      r.fail("damage", "damage in " + r.context().human +
+                           " degrades a material's strength, and this material has none (add "
+                           "strength = {type = ...})");
+    if (m.damage.type == "johnson_cook" && !plastic)
+      r.fail("damage", "Johnson-Cook damage accumulates plastic strain; strength type '" +
+                           m.strength.type + "' has none (use von_mises or johnson_cook)");
+  } else if (r.has("damage")) {
+    r.fail("damage", "damage must be a table, e.g. {type = \"grady_kipp\", ...}");
+  }
+  m.erosion = r.choice("erosion", {"none", "no_tension", "no_shear", "zero_stress"}, "none");
+  if (r.has("erosion") && m.damage.type == "none")
+    r.fail("erosion", "erosion says what a fully damaged particle carries, and " +
+                          r.context().human + " has no damage");
+}
+
+void DeckReader::readDamage(const TableReader& r, DamageConfig& c) const {
+  c.where = r.where();
+  c.type = r.choice("type", dd::typeNames("material.damage"), std::nullopt);
+  const Names& params = dd::typedKeys("material.damage", c.type);
+  Names keys{"type"};
+  keys.insert(keys.end(), params.begin(), params.end());
+  r.allowOnly(keys, "damage type '" + c.type + "' takes: " + dd::joined(params));
+  const auto need = [&](std::string_view key) { return r.required(r.number(key), key); };
+  if (c.type == "grady_kipp") {
+    c.weibull_k = need("weibull_k");
+    r.check(c.weibull_k > 0.0, "weibull_k", "> 0 (flaws per m^3)", c.weibull_k);
+    c.weibull_m = need("weibull_m");
+    r.check(c.weibull_m > 0.0, "weibull_m", "> 0", c.weibull_m);
+    c.crack_speed = r.number("crack_speed").value_or(c.crack_speed);
+    r.check(c.crack_speed > 0.0 && c.crack_speed <= 1.0, "crack_speed",
+            "in (0, 1] (a fraction of the longitudinal sound speed)", c.crack_speed);
+    const auto mode = r.string("mode");
+    if (mode && *mode == "tensor")
+      r.fail("mode", "damage mode 'tensor' (Owen 2010) is not available yet; use \"scalar\"");
+    c.mode = r.choice("mode", {"scalar"}, "scalar");
+  } else {
+    c.D1 = need("D1");
+    c.D2 = need("D2");
+    c.D3 = need("D3");
+    c.D4 = need("D4");
+    c.D5 = need("D5");
+    c.reference_strain_rate = need("reference_strain_rate");
+    r.check(c.reference_strain_rate > 0.0, "reference_strain_rate", "> 0", c.reference_strain_rate);
+    c.room_temperature = need("room_temperature");
+    r.check(c.room_temperature > 0.0, "room_temperature", "> 0", c.room_temperature);
+    c.melt_temperature = need("melt_temperature");
+    r.check(c.melt_temperature > c.room_temperature, "melt_temperature", "> room_temperature",
+            c.melt_temperature);
   }
 }
 
@@ -502,6 +559,22 @@ void DeckReader::readOutput(const TableReader& r, OutputConfig& o, double endTim
           "in [0, 100000] steps", static_cast<double>(o.failure_history));
   o.dt_warning = r.number("dt_warning").value_or(o.dt_warning);
   r.check(o.dt_warning >= 0.0 && o.dt_warning < 1.0, "dt_warning", "in [0, 1)", o.dt_warning);
+}
+
+void DeckReader::readFragments(const TableReader& r, FragmentsConfig& c,
+                               const SolverConfig& s) const {
+  r.allowOnly(*dd::schemaKeys("fragments"));
+  c.where = r.where();
+  c.link_length = r.number("link_length").value_or(c.link_length);
+  // Friends are found among the neighbors of the force loop: the link must stay within the
+  // kernel's support (2 h for every kernel spall has), i.e. 2 n_h spacings.
+  const double most = 2.0 * s.nodes_per_h;
+  r.check(c.link_length > 0.0 && c.link_length <= most, "link_length",
+          "in (0, 2 nodes_per_h] (particle spacings; at most the kernel support, 2 h)",
+          c.link_length);
+  c.damage_threshold = r.number("damage_threshold").value_or(c.damage_threshold);
+  r.check(c.damage_threshold > 0.0 && c.damage_threshold <= 1.0, "damage_threshold", "in (0, 1]",
+          c.damage_threshold);
 }
 
 void DeckReader::readCheckpoint(const TableReader& r, CheckpointConfig& c) const {

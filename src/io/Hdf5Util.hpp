@@ -86,6 +86,8 @@ inline hid_t fileType(ScalarType t) {
     return H5T_STD_U64LE;
   case ScalarType::I32:
     return H5T_STD_I32LE;
+  case ScalarType::I64:
+    return H5T_STD_I64LE;
   }
   return H5T_IEEE_F64LE;
 }
@@ -98,6 +100,8 @@ inline hid_t memoryType(ScalarType t) {
     return H5T_NATIVE_UINT64;
   case ScalarType::I32:
     return H5T_NATIVE_INT32;
+  case ScalarType::I64:
+    return H5T_NATIVE_INT64;
   }
   return H5T_NATIVE_DOUBLE;
 }

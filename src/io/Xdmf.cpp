@@ -44,6 +44,8 @@ std::string numberType(ScalarType t) {
     return R"(NumberType="UInt" Precision="8")";
   case ScalarType::I32:
     return R"(NumberType="Int" Precision="4")";
+  case ScalarType::I64:
+    return R"(NumberType="Int" Precision="8")";
   }
   return "";
 }

@@ -1,5 +1,9 @@
 #include "spall/materials/MaterialUpdate.hpp"
 
+#include <algorithm>
+#include <numbers>
+#include <type_traits>
+
 namespace spall::materials {
 
 namespace {
@@ -8,22 +12,36 @@ double shearModulusOf(const Material& m) {
 }
 } // namespace
 
-// One visit per material, then a plain loop over its particles: no dispatch per particle.
+bool MaterialUpdate::anyDamage() const {
+  return std::any_of(materials_.begin(), materials_.end(),
+                     [](const Material& m) { return m.damage.has_value(); });
+}
+
+bool MaterialUpdate::anyFlaws() const {
+  return std::any_of(materials_.begin(), materials_.end(),
+                     [](const Material& m) { return m.scalesWithDamage(); });
+}
+
+// One visit per material, then a plain loop over its particles: no dispatch per particle. A
+// damaged material's pressure is degraded as in `update` (the deviator is left as it is).
 void MaterialUpdate::evaluate(const MaterialFields& f) const {
   const std::size_t n = f.rho.size();
   for (std::size_t k = 0; k < materials_.size(); ++k) {
-    const double G = shearModulusOf(materials_[k]);
+    const Material& mat = materials_[k];
+    const double G = shearModulusOf(mat);
     const auto id = static_cast<std::int32_t>(k);
+    const bool damage = mat.damage.has_value(), scales = mat.scalesWithDamage();
     std::visit(
         [&](const auto& eos) {
           for (std::size_t i = 0; i < n; ++i) {
             if (f.material[i] != id) continue;
             const MaterialResponse r = evaluateEos(eos, G, f.rho[i], f.e[i]);
-            f.p[i] = r.p;
+            f.p[i] =
+                damage ? degrade(r.p, Tensor<3>::Zero(), f.damage[i], scales, mat.erosion).p : r.p;
             f.cs[i] = r.cs;
           }
         },
-        materials_[k].eos);
+        mat.eos);
   }
 }
 
@@ -47,6 +65,10 @@ void MaterialUpdate::update(const MaterialFields& f, double dt) const {
           mat.eos);
       continue;
     }
+    if (mat.damage) {
+      updateDamaged(mat, id, f, dt);
+      continue;
+    }
     std::visit(
         [&](const auto& eos, const auto& strength) {
           const double G = strength.shearModulus();
@@ -64,6 +86,54 @@ void MaterialUpdate::update(const MaterialFields& f, double dt) const {
         },
         mat.eos, *mat.strength);
   }
+}
+
+// A material with damage: the strength model advances the intact stress (frozen once a
+// zero_stress particle has failed), the EOS gives the intact pressure, the damage model advances D
+// from that intact state, and the particle carries the degraded stress.
+void MaterialUpdate::updateDamaged(const Material& mat, std::int32_t id, const MaterialFields& f,
+                                   double dt) const {
+  const std::size_t n = f.rho.size();
+  const bool scales = mat.scalesWithDamage();
+  const bool freezeFailed = mat.erosion == Erosion::ZeroStress;
+  std::visit(
+      [&](const auto& eos, const auto& strength, const auto& damage) {
+        using D = std::decay_t<decltype(damage)>;
+        const double G = strength.shearModulus();
+        for (std::size_t i = 0; i < n; ++i) {
+          if (f.material[i] != id) continue;
+          const StrengthState before{f.Sintact[i], f.plasticStrain[i], f.temperature[i]};
+          const StrengthState next = freezeFailed && f.damage[i] >= 1.0
+                                         ? before
+                                         : strength.update(before, f.L[i], dt, f.rho[i]);
+          const EosState st = eos.evaluate(f.rho[i], f.e[i]);
+          const double cs = std::sqrt(st.cs * st.cs + 4.0 * G / (3.0 * f.rho[i]));
+          if constexpr (std::is_same_v<D, GradyKipp>) {
+            const double eps = tensileStrain(st.p, next.S, f.rho[i] * st.cs * st.cs, G);
+            const double scale = f.flawScale[i];
+            // R_s: the radius of the sphere of the particle's flaw volume V = scale^-m / k.
+            const double V = std::pow(scale, -damage.m) / damage.k;
+            const double Rs = std::cbrt(3.0 * V / (4.0 * std::numbers::pi));
+            const FlawState fs = advanceFlaws({f.damage[i], f.flawsActive[i], f.flawNext[i]}, eps,
+                                              dt, damage.crackSpeed * cs, Rs, f.flawCount[i], scale,
+                                              damage.m, seed_, f.id[i]);
+            f.damage[i] = fs.D;
+            f.flawsActive[i] = fs.active;
+            f.flawNext[i] = fs.next;
+          } else {
+            f.damage[i] = damage.advance(f.damage[i], next.plasticStrain - before.plasticStrain, dt,
+                                         st.p, vonMisesStress(next.S), next.temperature);
+          }
+          f.Sintact[i] = next.S;
+          f.plasticStrain[i] = next.plasticStrain;
+          f.temperature[i] = next.temperature;
+          const DamagedStress carried = degrade(st.p, next.S, f.damage[i], scales, mat.erosion);
+          f.p[i] = carried.p;
+          f.S[i] = carried.S;
+          f.cs[i] = cs;
+        }
+      },
+      mat.eos, *mat.strength, *mat.damage);
 }
 
 } // namespace spall::materials

@@ -18,9 +18,13 @@ SphMethod<Dim>::SphMethod(const parallel::MpiContext& mpi, SphSetup setup,
     : mpi_(mpi), setup_(std::move(setup)), materials_(std::move(materials)),
       modules_(std::move(modules)), s_(store), f_(f), cost_(cost), decomposition_(decomposition),
       boundaries_(setup_.boundaries, store, f), halo_(mpi.comm(), boundaries_.periodicAxes()) {
-  std::vector<bool> solid;
-  for (const auto& m : materials_.materials()) solid.push_back(m.strength.has_value());
-  solver_ = solvers::makeSolver<Dim>({setup_.solver, solid}, store, f);
+  std::vector<bool> solid, failedNoTension;
+  for (const auto& m : materials_.materials()) {
+    solid.push_back(m.strength.has_value());
+    failedNoTension.push_back(m.failedCarriesNoTension());
+  }
+  if (!materials_.anyDamage()) failedNoTension.clear();
+  solver_ = solvers::makeSolver<Dim>({setup_.solver, solid, failedNoTension}, store, f);
   haloFields_ = store.columnsWith(kHalo);
   refreshFields_ = store.columnsWith(kRefresh);
   if (f.B.valid()) correctionFields_ = {f.B.index};
@@ -74,8 +78,8 @@ template <int Dim> void SphMethod<Dim>::evaluate(std::int64_t step) {
 }
 
 // t = 0: the modules' initial values (H = I/h, unstressed solids), then p and cs.
-template <int Dim> void SphMethod<Dim>::start() {
-  for (const auto& m : modules_) m->initialise(s_, f_);
+template <int Dim> void SphMethod<Dim>::start(const RunStart& run) {
+  for (const auto& m : modules_) m->initialise(s_, f_, run);
   materials_.evaluate(materialFields());
 }
 
@@ -189,6 +193,51 @@ template <int Dim> void SphMethod<Dim>::kernelCorrection() {
   boundaries_.refreshGhosts(s_, correctionFields_);
 }
 
+// Friends of friends among the particles and fresh ghosts (a rebalance at the end of the step may
+// have moved particles since the force evaluation), with pairs from a neighbor search of their
+// own: the step's list, its cost and statistics stay as they were. Wall images are no particles
+// and take no part. Labels travel to the ghosts in the `fragment` column, which then receives
+// each particle's place in the catalogue. The next step builds its ghosts anew.
+template <int Dim>
+diagnostics::FragmentCatalogue SphMethod<Dim>::findFragments(double linkLength,
+                                                             double damageThreshold) {
+  exchangeHalo();
+  const std::size_t n = s_.localCount(), rows = n + halo_.ghosts();
+  neighbors::NeighborList pairs;
+  neighbors::buildNeighborList<Dim>(s_[f_.x], s_[f_.h], n, solver_->support(), grid_, pairs,
+                                    nullptr);
+  const auto h = s_[f_.h];
+  std::vector<double> radius(rows);
+  std::vector<std::uint8_t> linkable(rows, 1);
+  for (std::size_t r = 0; r < rows; ++r) radius[r] = linkLength * h[r] / setup_.solver.nodes_per_h;
+  if (f_.hasDamage()) {
+    const auto D = s_[f_.damage];
+    for (std::size_t r = 0; r < rows; ++r) linkable[r] = D[r] < damageThreshold;
+  }
+  diagnostics::FragmentInput<Dim> in;
+  in.id = s_[f_.id].first(rows);
+  in.x = s_[f_.x].first(rows);
+  in.v = s_[f_.v].first(rows);
+  in.m = s_[f_.m].first(rows);
+  in.linkRadius = radius;
+  in.linkable = linkable;
+  in.owned = n;
+  in.pairs = &pairs;
+  for (const auto& p : boundaries_.periodicAxes()) in.period[p.axis] = p.max - p.min;
+  const auto carrier = s_[f_.fragment];
+  const std::vector<std::size_t> column{f_.fragment.index};
+  diagnostics::FragmentCatalogue cat = diagnostics::findFragments<Dim>(
+      in,
+      [&](std::vector<ParticleId>& labels) {
+        for (std::size_t i = 0; i < n; ++i) carrier[i] = static_cast<std::int64_t>(labels[i]);
+        halo_.refresh(s_, column);
+        for (std::size_t r = n; r < rows; ++r) labels[r] = static_cast<ParticleId>(carrier[r]);
+      },
+      mpi_.comm());
+  for (std::size_t i = 0; i < n; ++i) carrier[i] = cat.index[i];
+  return cat;
+}
+
 template <int Dim> void SphMethod<Dim>::forces() {
   solver_->computeRates(neighbors_);
   for (const auto& m : modules_) m->afterRates(s_, f_);
@@ -196,20 +245,28 @@ template <int Dim> void SphMethod<Dim>::forces() {
 
 template <int Dim> materials::MaterialFields SphMethod<Dim>::materialFields() {
   const std::size_t n = s_.localCount();
-  materials::MaterialFields mf{s_[f_.rho].first(n),
-                               s_[f_.e].first(n),
-                               s_[f_.material].first(n),
-                               s_[f_.p].first(n),
-                               s_[f_.cs].first(n),
-                               {},
-                               {},
-                               {},
-                               {}};
+  materials::MaterialFields mf;
+  mf.rho = s_[f_.rho].first(n);
+  mf.e = s_[f_.e].first(n);
+  mf.material = s_[f_.material].first(n);
+  mf.p = s_[f_.p].first(n);
+  mf.cs = s_[f_.cs].first(n);
   if (f_.hasStrength()) {
     mf.L = s_[f_.L].first(n);
     mf.S = s_[f_.S].first(n);
     mf.plasticStrain = s_[f_.plasticStrain].first(n);
     mf.temperature = s_[f_.temperature].first(n);
+  }
+  if (f_.hasDamage()) {
+    mf.id = s_[f_.id].first(n);
+    mf.damage = s_[f_.damage].first(n);
+    mf.Sintact = s_[f_.Sintact].first(n);
+  }
+  if (f_.hasFlaws()) {
+    mf.flawCount = s_[f_.flawCount].first(n);
+    mf.flawsActive = s_[f_.flawsActive].first(n);
+    mf.flawScale = s_[f_.flawScale].first(n);
+    mf.flawNext = s_[f_.flawNext].first(n);
   }
   return mf;
 }

@@ -36,8 +36,8 @@ template <int Dim, class K, bool Aniso> class Sph final : public Solver<Dim> {
 
 public:
   Sph(const SolverSetup& setup, ParticleStore& store, const ParticleFields<Dim>& f)
-      : cfg_(setup.config), solid_(setup.solid), s_(store), f_(f),
-        psi_(kernels::PsiTable::build<KW, Dim>()) {}
+      : cfg_(setup.config), solid_(setup.solid), failedNoTension_(setup.failedCarriesNoTension),
+        s_(store), f_(f), psi_(kernels::PsiTable::build<KW, Dim>()) {}
 
   double support() const override { return K::support; }
   bool usesSummationDensity() const override { return cfg_.density != DensityMethod::Continuity; }
@@ -223,9 +223,11 @@ private:
       // row order, and so on the rank count).
       if (reconstruct) {
         strainRate_.resize(s_.size());
+        isochoric_.resize(s_.size());
         for (std::size_t j = 0; j < s_.size(); ++j) {
           const MatD Lj = Lgrad[j].template topLeftCorner<Dim, Dim>();
           strainRate_[j] = 0.5 * (Lj + Lj.transpose());
+          isochoric_[j] = pair::isochoricGate<Dim>(strainRate_[j]);
         }
       }
       if (artificialStress) {
@@ -262,6 +264,12 @@ private:
                         product ? 1.0 / rho[j] : 1.0,
                         balsara ? pair::balsaraFactor(divv[j], curlv[j], cs[j], h[j]) : 1.0};
     }
+
+    // Damaged pairs: a pair with a particle that failed (damage 1) and can carry no tension
+    // transmits compression only, as across a contact: an intact neighbor cannot pull on it, and
+    // it pulls on nothing (the crack is open). Without it, the intact side's tension would still
+    // reach across the failed layer through the pair's other half.
+    const bool damagedPairs = Solid && markFailedRows();
 
     for (std::size_t i = 0; i < n; ++i) {
       const Vec<Dim> xi = x[i], vi = v[i];
@@ -362,7 +370,8 @@ private:
         const double rhoj = rho[j];
         // Frictionless contact between bodies (contact groups): across a group boundary only
         // compression is transmitted (no tension, no shear), so bodies can slide and separate.
-        const bool across = frictionless && body[j] != bodyi;
+        const bool across =
+            (frictionless && body[j] != bodyi) || (damagedPairs && (failed_[i] | failed_[j]) != 0);
         double qOwn = qI, qOther = rj.q;
         if (across) {
           const double pOwn = std::max(p[i], 0.0), pOther = std::max(p[j], 0.0);
@@ -496,7 +505,9 @@ private:
   }
 
   SolverConfig cfg_;
-  std::vector<bool> solid_; // by material: has strength
+  std::vector<bool> solid_;           // by material: has strength
+  std::vector<bool> failedNoTension_; // by material: a failed particle carries no tension
+  std::vector<std::uint8_t> failed_;  // of every row: failed and carrying no tension
   struct RowScratch {
     double hInv, gradNorm, vol;
     double q, s;    // the pressure term's per-row factors (see ratesLoop)
@@ -506,11 +517,26 @@ private:
   std::vector<Tensor<Dim>> sOverRho_;         // scratch of the force loop (solids)
   std::vector<Tensor<Dim>> artificialStress_; // R of every row (solids, when enabled)
   std::vector<Tensor<Dim>> strainRate_;       // sym L of every row (reconstructed viscosity)
+  std::vector<double> isochoric_;             // pair::isochoricGate of every row
+  // failed_ of every row (ghosts included); whether any row failed at all.
+  bool markFailedRows() {
+    if (failedNoTension_.empty() || !f_.hasDamage()) return false;
+    const auto D = s_[f_.damage];
+    const auto mat = s_[f_.material];
+    failed_.resize(s_.size());
+    bool any = false;
+    for (std::size_t j = 0; j < s_.size(); ++j) {
+      failed_[j] = D[j] >= 1.0 && failedNoTension_[static_cast<std::size_t>(mat[j])];
+      any = any || failed_[j] != 0;
+    }
+    return any;
+  }
   // Out of line: the pair loop is register-bound, and only approaching pairs call it.
   [[gnu::noinline]] double reconstructedApproach(double vr, const Vec<Dim>& xij, std::size_t i,
                                                  std::size_t j, double q) const {
     return pair::reconstructedApproach(vr, xij.dot(strainRate_[i] * xij),
-                                       xij.dot(strainRate_[j] * xij), q, 1.0 / cfg_.nodes_per_h);
+                                       xij.dot(strainRate_[j] * xij), q, 1.0 / cfg_.nodes_per_h,
+                                       0.5 * (isochoric_[i] + isochoric_[j]));
   }
   ParticleStore& s_;
   ParticleFields<Dim> f_;

@@ -193,6 +193,15 @@ with tempfile.TemporaryDirectory() as tmp:
     run(rod, 1, half, ["run.end_time=6e-6", "body.striker.velocity=[200.0]"], restart="latest")
     same_state(full, half, "rod impact with strength, T + restart")
 
+    # Damage: a restart mid-failure (the spall plane opens from 1.75 us): damage, the intact
+    # stress and the flaw state are checkpointed, the flaws themselves redrawn from (seed, id).
+    spall = SRC / "decks/spall_plate_1d.toml"
+    full, half = tmp / "spall_full", tmp / "spall_half"
+    run(spall, 2, full, ["run.end_time=2.2e-6"])
+    run(spall, 2, half, ["run.end_time=1.8e-6"])
+    run(spall, 2, half, ["run.end_time=2.2e-6"], restart="latest")
+    same_state(full, half, "spall plate (damage), 2 ranks, restart mid-failure")
+
     # ---- N to M ------------------------------------------------------------------------------
     ckpt = tmp / "half2" / "checkpoints"
     for ranks in (1, 3):

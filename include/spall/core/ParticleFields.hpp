@@ -34,12 +34,27 @@ template <int Dim> struct ParticleFields {
   // then holds the longest axis, 1/lambda_min(H): the reach of the neighbor search and the ghosts.
   Field<Tensor<Dim>> H;
 
+  // Damage (a material with damage): D in [0, 1], read of neighbors by the damaged-pair rule; the
+  // intact material's deviatoric stress (S is then what the particle carries); Grady-Kipp flaws
+  // (registered only when a material has them): the count, how many are active, the scale of
+  // their activation strains (eps_j = scale u_j^(1/m)) and the next one's activation strain.
+  Field<double> damage;
+  Field<Tensor<3>> Sintact;
+  Field<std::int32_t> flawCount, flawsActive;
+  Field<double> flawScale, flawNext;
+
+  // [fragments]: each particle's place in the fragment catalogue of the last snapshot (0: the
+  // most massive fragment). Written at snapshots, not checkpointed.
+  Field<std::int64_t> fragment;
+
   // Contact (solver.contact frictionless or auto): particles of different groups transmit only
   // compression. The group is the body, or with "auto" the bodies touching at t = 0 merged.
   Field<std::int32_t> contactGroup;
 
   bool anisotropic() const { return H.valid(); }
   bool hasStrength() const { return S.valid(); }
+  bool hasDamage() const { return damage.valid(); }
+  bool hasFlaws() const { return flawCount.valid(); }
 
   // What every particle method carries: identity, kinematics, mass, thermodynamic state, and
   // the rates and sums of the SPH step. The neighbor search and the force loop read the first
@@ -78,6 +93,16 @@ template <int Dim> struct ParticleFields {
                          kCheckpoint | (gradientInHalo ? kHalo | kReflectTensor : 0u));
     plasticStrain = s.add<double>("plastic_strain", kOutput | kCheckpoint);
     temperature = s.add<double>("temperature", kOutput | kCheckpoint);
+  }
+  void registerDamage(ParticleStore& s, bool flaws) {
+    constexpr unsigned out = kOutput | kCheckpoint;
+    damage = s.add<double>("damage", out | kHalo);
+    Sintact = s.add<Tensor<3>>("deviatoric_stress_intact", kCheckpoint);
+    if (!flaws) return;
+    flawCount = s.add<std::int32_t>("flaw_count", out);
+    flawsActive = s.add<std::int32_t>("flaws_active", out);
+    flawScale = s.add<double>("flaw_strain_scale", kCheckpoint);
+    flawNext = s.add<double>("next_flaw_strain", out);
   }
   // Sent to ghosts on its own, after it is computed (not with the halo).
   void registerKernelCorrection(ParticleStore& s) {

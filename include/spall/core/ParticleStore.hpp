@@ -19,7 +19,7 @@
 
 namespace spall {
 
-enum class ScalarType { F64, U64, I32 };
+enum class ScalarType { F64, U64, I32, I64 };
 
 enum FieldFlag : unsigned {
   kOutput = 1u << 0,     // written to snapshots when the deck asks for it (default: all)
@@ -55,6 +55,10 @@ template <> struct ElementTraits<double> {
 };
 template <> struct ElementTraits<std::uint64_t> {
   static constexpr ScalarType scalar = ScalarType::U64;
+  static std::vector<int> shape() { return {}; }
+};
+template <> struct ElementTraits<std::int64_t> {
+  static constexpr ScalarType scalar = ScalarType::I64;
   static std::vector<int> shape() { return {}; }
 };
 template <> struct ElementTraits<std::int32_t> {

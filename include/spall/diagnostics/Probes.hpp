@@ -22,17 +22,21 @@ struct ProbeField {
     Energy,
     SoundSpeed,
     Mass,
-    SmoothingLength
+    SmoothingLength,
+    Column // a scalar snapshot field of the store (plastic_strain, damage, ...), by column
   };
   Kind kind;
-  int a = 0, b = 0; // components
+  int a = 0, b = 0; // components, or the column index (Column)
   std::string name;
 };
 
-// Throws DeckError at `where` for a name this dimension does not have.
-ProbeField resolveProbeField(const std::string& name, int dim, const SourceLocation& where);
+// Throws DeckError at `where` for a name this dimension does not have. With a store, every scalar
+// snapshot field it holds is a probe field too (the physics modules' fields: plastic_strain,
+// temperature, damage, ...).
+ProbeField resolveProbeField(const std::string& name, int dim, const SourceLocation& where,
+                             const ParticleStore* store = nullptr);
 // All probe field names available in `dim` dimensions (for messages and `spall check`).
-std::vector<std::string> probeFieldNames(int dim);
+std::vector<std::string> probeFieldNames(int dim, const ParticleStore* store = nullptr);
 
 struct ProbeSample {
   std::string probe, field;
@@ -41,7 +45,7 @@ struct ProbeSample {
 
 template <int Dim> class Probes {
 public:
-  explicit Probes(const std::vector<ProbeConfig>& config);
+  Probes(const std::vector<ProbeConfig>& config, const ParticleStore& store);
   // Material probes pick their particle (global nearest, lowest id on ties).
   void attach(const ParticleStore& s, const ParticleFields<Dim>& f,
               const parallel::MpiContext& mpi);

@@ -53,11 +53,26 @@ struct StrengthConfig {
   SourceLocation where;
 };
 
+// damage = {type = ...} (INTERFACE.md; materials/Damage.hpp for the models).
+struct DamageConfig {
+  std::string type = "none"; // "none" | "grady_kipp" | "johnson_cook"
+  // grady_kipp: n(eps) = weibull_k eps^weibull_m flaws per m^3; crack speed over the longitudinal
+  // sound speed; mode "scalar" (Benz & Asphaug) or "tensor" (Owen 2010)
+  double weibull_k = 0.0, weibull_m = 0.0, crack_speed = 0.4;
+  std::string mode = "scalar";
+  // johnson_cook (Austin 2013, Eq. 6.5)
+  double D1 = 0.0, D2 = 0.0, D3 = 0.0, D4 = 0.0, D5 = 0.0, reference_strain_rate = 1.0;
+  double room_temperature = 293.0, melt_temperature = 0.0;
+  SourceLocation where;
+};
+
 struct MaterialConfig {
   std::string name;
   double density = 0.0; // reference density rho0
   EosConfig eos;
   StrengthConfig strength;
+  DamageConfig damage;
+  std::string erosion = "none"; // "none" | "no_tension" | "no_shear" | "zero_stress"
   SourceLocation where;
 };
 
@@ -144,6 +159,13 @@ struct CheckpointConfig {
   SourceLocation where;
 };
 
+// [fragments]: friends of friends at every snapshot (diagnostics/Fragments.hpp).
+struct FragmentsConfig {
+  double link_length = 1.5;       // in particle spacings (h / nodes_per_h)
+  double damage_threshold = 0.95; // particles at or above it link to nothing
+  SourceLocation where;
+};
+
 struct ProbeConfig {
   std::string name;
   std::vector<double> position;
@@ -165,6 +187,7 @@ struct Deck {
   OutputConfig output;
   std::optional<CheckpointConfig> checkpoint;
   std::vector<ProbeConfig> probes;
+  std::optional<FragmentsConfig> fragments;
 };
 
 // Reads, applies `--set KEY=VALUE` overrides to, and validates a deck. Throws DeckError with the

@@ -2,10 +2,12 @@
 // One per-particle material update, shared by every method (SPH now; MPM and the single-element
 // driver next): (rho, e, L, dt, history) -> (p, S, cs, history). It runs the stages of a
 // material in order, in one pass: strength (the deviatoric stress over dt, from the velocity
-// gradient), then the equation of state; damage and porosity slot in as further stages. The
+// gradient), the equation of state, then damage (which degrades what the intact material would
+// carry: materials/Damage.hpp); porosity slots in as a further stage. The
 // evaluation without dt advances no history: the EOS-only refresh after a density sum or a
 // correction. A solid carries shear waves too: its signal speed (time step, viscosity) is the
 // longitudinal one, sqrt(cs^2 + 4G/(3 rho)).
+#include "spall/materials/Damage.hpp"
 #include "spall/materials/Eos.hpp"
 #include "spall/materials/Strength.hpp"
 
@@ -19,7 +21,15 @@ namespace spall::materials {
 
 struct Material {
   Eos eos;
-  std::optional<Strength> strength; // none: a fluid
+  std::optional<Strength> strength;            // none: a fluid
+  std::optional<Damage> damage = std::nullopt; // needs strength
+  Erosion erosion = Erosion::None;
+
+  bool scalesWithDamage() const { return damage && std::holds_alternative<GradyKipp>(*damage); }
+  // A fully damaged particle of this material carries no tension (the damaged-pair rule).
+  bool failedCarriesNoTension() const {
+    return damage && !failedCarriesTension(scalesWithDamage(), erosion);
+  }
 };
 
 // The thermodynamic state the EOS stage returns: pressure and signal speed.
@@ -34,7 +44,9 @@ template <class E> MaterialResponse evaluateEos(const E& eos, double G, double r
 }
 
 // The per-particle fields of the owned particles a material pass reads and writes. The strength
-// fields are empty when no material has strength.
+// fields are empty when no material has strength, the damage fields when none has damage, the
+// flaw fields when none has Grady-Kipp flaws. With damage, S is what the particle carries and
+// Sintact the intact material's stress (the strength model's history).
 struct MaterialFields {
   std::span<const double> rho, e;
   std::span<const std::int32_t> material;
@@ -42,20 +54,36 @@ struct MaterialFields {
   std::span<const Tensor<3>> L;
   std::span<Tensor<3>> S;
   std::span<double> plasticStrain, temperature;
+  std::span<const ParticleId> id = {};
+  std::span<double> damage = {};
+  std::span<Tensor<3>> Sintact = {};
+  std::span<const std::int32_t> flawCount = {};
+  std::span<std::int32_t> flawsActive = {};
+  std::span<const double> flawScale = {};
+  std::span<double> flawNext = {};
 };
 
 class MaterialUpdate {
 public:
-  explicit MaterialUpdate(std::vector<Material> materials) : materials_(std::move(materials)) {}
+  // seed: run.seed, from which (with the particle id) Grady-Kipp flaws are drawn.
+  explicit MaterialUpdate(std::vector<Material> materials, std::uint64_t seed = 1)
+      : materials_(std::move(materials)), seed_(seed) {}
 
   const std::vector<Material>& materials() const { return materials_; }
   // p and cs from (rho, e): no history advances.
   void evaluate(const MaterialFields& f) const;
-  // S, plastic strain and temperature over dt from L (materials with strength), then p and cs.
+  // S, plastic strain and temperature over dt from L (materials with strength), then p and cs,
+  // then the damage of materials that have it.
   void update(const MaterialFields& f, double dt) const;
+  bool anyDamage() const;
+  bool anyFlaws() const;
 
 private:
+  void updateDamaged(const Material& mat, std::int32_t id, const MaterialFields& f,
+                     double dt) const;
+
   std::vector<Material> materials_;
+  std::uint64_t seed_;
 };
 
 } // namespace spall::materials

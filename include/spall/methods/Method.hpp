@@ -3,7 +3,9 @@
 // counters and its restartable state. The run loop (app/) keeps time, output, checkpoints and
 // signals, and knows nothing of how a method steps (SPH and ASPH now, MPM next).
 #include "spall/core/Error.hpp"
+#include "spall/diagnostics/Fragments.hpp"
 #include "spall/io/Checkpoint.hpp"
+#include "spall/methods/Module.hpp"
 #include "spall/methods/StepStats.hpp"
 
 #include <cstdint>
@@ -13,8 +15,9 @@ namespace spall::methods {
 template <int Dim> class Method {
 public:
   virtual ~Method() = default;
-  // t = 0, the particles made (on any rank): the material state functions (p, cs).
-  virtual void start() = 0;
+  // t = 0, the particles made (on any rank): the modules' initial fields, the material state
+  // functions (p, cs).
+  virtual void start(const RunStart& run) = 0;
   // The rates of the current state: before the first step of a new run (a restart reads the
   // checkpointed ones instead). `step` is the step count so far.
   virtual void evaluate(std::int64_t step) = 0;
@@ -28,6 +31,10 @@ public:
   // (a report with id 0 and no values when no rank holds it).
   virtual ParticleReport timeStepSetter() const = 0;
   virtual ParticleReport particle(ParticleId id) const = 0;
+  // Friends of friends over the current particles (collective): fills the `fragment` field of
+  // the owned particles and returns the catalogue (diagnostics/Fragments.hpp).
+  virtual diagnostics::FragmentCatalogue findFragments(double linkLength,
+                                                       double damageThreshold) = 0;
   // The kernel support in units of h (probes sample within it).
   virtual double support() const = 0;
   virtual StepStats& stats() = 0;

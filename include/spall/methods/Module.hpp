@@ -7,7 +7,15 @@
 #include "spall/core/ParticleFields.hpp"
 #include "spall/io/Checkpoint.hpp"
 
+#include <cstdint>
+#include <span>
+
 namespace spall::methods {
+
+// What a new run knows at t = 0 beyond the particles a rank owns.
+struct RunStart {
+  std::span<const std::uint64_t> bodyParticles; // every body's particle count, on all ranks
+};
 
 template <int Dim> class Module {
 public:
@@ -15,7 +23,8 @@ public:
   // Registers the module's fields in the store and records their handles in f.
   virtual void registerFields(ParticleStore& s, ParticleFields<Dim>& f) = 0;
   // A new run at t = 0, after the bodies are made: initial values of the owned particles.
-  virtual void initialise(ParticleStore& /*s*/, const ParticleFields<Dim>& /*f*/) const {}
+  virtual void initialise(ParticleStore& /*s*/, const ParticleFields<Dim>& /*f*/,
+                          const RunStart& /*start*/) const {}
   // After each force evaluation, on the owned particles' rates.
   virtual void afterRates(ParticleStore& /*s*/, const ParticleFields<Dim>& /*f*/) const {}
   // Restartable state beyond the module's fields (checkpoint state keys are the module's own).

@@ -31,7 +31,8 @@ public:
             const ParticleFields<Dim>& f, Field<std::int32_t> cost,
             parallel::Decomposition<Dim>& decomposition);
 
-  void start() override;
+  void start(const RunStart& run) override;
+  diagnostics::FragmentCatalogue findFragments(double linkLength, double damageThreshold) override;
   void evaluate(std::int64_t step) override;
   void advance(double dt, std::int64_t step, double time) override;
   double stableTimeStep(double floor, std::int64_t step, double time) override;

@@ -39,6 +39,9 @@ public:
 struct SolverSetup {
   SolverConfig config;
   std::vector<bool> solid; // by material index: has strength (artificial stress acts on solids)
+  // By material index: a fully damaged particle carries no tension, so that every pair it is in
+  // carries compression only (empty: no material has damage).
+  std::vector<bool> failedCarriesNoTension = {};
 };
 
 // Picks the kernel and stress instantiation once, from the configuration.

@@ -436,8 +436,62 @@ TEST_F(DeckTest, EosKeyOfAnotherTypeIsUnknown) {
 }
 
 TEST_F(DeckTest, LaterMaterialModelsAreNotAvailableYet) {
-  expectError(withLine(kDeck1D, 15, "damage = { type = \"grady_kipp\" }"), 15, 10,
-              "'damage' in material 'copper' is not available yet");
+  expectError(withLine(kDeck1D, 15, "porosity = { type = \"p_alpha\" }"), 15, 12,
+              "'porosity' in material 'copper' is not available yet");
+}
+
+// ---- damage and erosion ----
+
+namespace {
+const std::string kElastic = "strength = { type = \"elastic\", shear_modulus = 47.7e9 }\n";
+const std::string kFlaws = "damage = { type = \"grady_kipp\", weibull_k = 1e35, weibull_m = 9.0 }";
+} // namespace
+
+TEST_F(DeckTest, DamageNeedsStrength) {
+  expectError(withLine(kDeck1D, 15, kFlaws), 15, 10, "this material has none");
+}
+
+TEST_F(DeckTest, DamageTypesAndTheirKeys) {
+  const auto at = [&](const std::string& text, const std::string& needle, const std::string& what) {
+    expectError(text, 16, columnOf(text, 16, needle), what);
+  };
+  std::string t =
+      withLine(kDeck1D, 15, kElastic + "damage = { type = \"grady_kipp\", weibull_m = 9.0 }");
+  at(t, "{ type", "weibull_k");
+  t = withLine(kDeck1D, 15,
+               kElastic + "damage = { type = \"grady_kipp\", weibull_k = 1e35, "
+                          "weibull_m = 9.0, mode = \"tensor\" }");
+  at(t, "\"tensor\"", "'tensor' (Owen 2010) is not available yet");
+  t = withLine(kDeck1D, 15,
+               kElastic + "damage = { type = \"johnson_cook\", D1 = 0.05, D2 = 3.44, "
+                          "D3 = -2.12, D4 = 0.002, D5 = 0.61, reference_strain_rate = "
+                          "1.0, room_temperature = 293.0, melt_temperature = 1793.0 }");
+  at(t, "{ type", "use von_mises or johnson_cook");
+  t = withLine(kDeck1D, 15,
+               kElastic + "damage = { type = \"grady_kipp\", weibull_k = 1e35, "
+                          "weibull_m = 9.0, crack_speed = 1.5 }");
+  at(t, "1.5", "crack_speed");
+}
+
+TEST_F(DeckTest, ErosionNeedsDamageAndAKnownOption) {
+  expectError(withLine(kDeck1D, 15, kElastic + "erosion = \"no_tension\""), 16, 11,
+              "has no damage");
+  expectError(withLine(kDeck1D, 15, kElastic + kFlaws + "\nerosion = \"remove_mass\""), 17, 11,
+              "zero_stress");
+  const Deck d = load(withLine(kDeck1D, 15, kElastic + kFlaws + "\nerosion = \"zero_stress\""));
+  EXPECT_EQ(d.materials[0].damage.type, "grady_kipp");
+  EXPECT_EQ(d.materials[0].damage.weibull_k, 1e35);
+  EXPECT_EQ(d.materials[0].damage.crack_speed, 0.4);
+  EXPECT_EQ(d.materials[0].erosion, "zero_stress");
+}
+
+TEST_F(DeckTest, FragmentsLinkWithinTheKernelSupport) {
+  const DeckError e = error(kDeck1D + "\n[fragments]\nlink_length = 4.0\n");
+  EXPECT_NE(std::string(e.what()).find("link_length"), std::string::npos) << e.what();
+  const Deck d = load(kDeck1D + "\n[fragments]\ndamage_threshold = 0.9\n");
+  ASSERT_TRUE(d.fragments.has_value());
+  EXPECT_EQ(d.fragments->link_length, 1.5);
+  EXPECT_EQ(d.fragments->damage_threshold, 0.9);
 }
 
 // ---- types ----

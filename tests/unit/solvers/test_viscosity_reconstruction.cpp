@@ -1,8 +1,9 @@
 // The artificial viscosity from linearly reconstructed velocities (solvers/SphPairTerms.hpp,
 // Frontiere, Raskin & Owen 2017): no approach, so no viscosity, in a linear velocity field; the
-// full approach where the two gradients disagree (a shock); symmetric in the pair; and on a
-// lattice in uniform compression the viscous heating vanishes inside while the plain viscosity
-// heats it there (its forces cancel inside by symmetry; its heating does not).
+// full approach where the two gradients disagree (a shock); symmetric in the pair; on a lattice in
+// isochoric flow (pure shear) the viscous heating vanishes inside while the plain viscosity heats
+// it there (its forces cancel inside by symmetry; its heating does not); a lattice in uniform
+// compression keeps most of the plain viscosity (the isochoric gate).
 #include "SolverLattice.hpp"
 #include "spall/solvers/SphPairTerms.hpp"
 
@@ -48,16 +49,15 @@ TEST(ViscosityReconstruction, CloseParticlesGetTheViscosityBack) {
 
 namespace {
 
-// A lattice compressed uniformly, v = -c x (about its centre), with the velocity gradient of a
-// first evaluation in place, as the previous step leaves it; returns the largest |de/dt| over the
+// A lattice in the linear flow v = G x (about its centre), with the velocity gradient of a first
+// evaluation in place, as the previous step leaves it; returns the largest |de/dt| over the
 // particles whose neighbors' neighbors are all inside (two supports, 6 spacings, from every edge:
 // the plain L is off by tens of percent within a support of a free surface).
-double innerHeating(bool reconstruct, double alpha) {
+double innerHeating(bool reconstruct, double alpha, const Tensor<2>& G) {
   SolverConfig cfg;
   cfg.artificial_viscosity.alpha = alpha;
   cfg.artificial_viscosity.beta = 2.0 * alpha;
   cfg.artificial_viscosity.reconstruct = reconstruct;
-  const Tensor<2> G = -50.0 * Tensor<2>::Identity();
   const int n = 20;
   fixtures::SolverLattice l(n, cfg, true, G);
   for (std::size_t i = 0; i < l.store.localCount(); ++i) // unstressed, as a run starts
@@ -76,14 +76,37 @@ double innerHeating(bool reconstruct, double alpha) {
 
 } // namespace
 
-TEST(ViscosityReconstruction, UniformCompressionFeelsNoViscosityInside) {
-  // At the reference density, unstressed, nothing but the viscosity heats the lattice: without it
-  // de/dt is round-off. The plain viscosity heats every compressed pair; reconstructed, the linear
-  // field leaves no approach where both gradients are exact (inside: L is within 0.7% of G
-  // there, and a + b then exceeds the approach, so the clipped approach is exactly 0).
-  const double none = innerHeating(false, 0.0);
-  const double plain = innerHeating(false, 1.0);
-  const double rebuilt = innerHeating(true, 1.0);
+namespace {
+const Tensor<2> kShear{{50.0, 0.0}, {0.0, -50.0}}; // isochoric: tr G = 0
+const Tensor<2> kCompression = -50.0 * Tensor<2>::Identity();
+} // namespace
+
+TEST(ViscosityReconstruction, IsochoricFlowFeelsNoViscosityInside) {
+  // Unstressed and at the reference density, nothing but the viscosity heats the lattice: without
+  // it de/dt is round-off. The plain viscosity heats every approaching pair; reconstructed, the
+  // linear field leaves no approach where both gradients are exact (inside: L is within 0.7% of
+  // G there, and a + b then exceeds the approach, so the clipped approach is exactly 0).
+  const double none = innerHeating(false, 0.0, kShear);
+  const double plain = innerHeating(false, 1.0, kShear);
+  const double rebuilt = innerHeating(true, 1.0, kShear);
   EXPECT_GT(plain, 1e3 * none);
   EXPECT_EQ(rebuilt, none);
+}
+
+TEST(ViscosityReconstruction, UniformCompressionKeepsMostOfTheViscosity) {
+  // chi = sqrt 2 in 2D: the gate exp(-2) leaves 86% of each pair's approach, and the heating
+  // (linear and quadratic in it) between 0.7 and 1 of the plain one.
+  const double plain = innerHeating(false, 1.0, kCompression);
+  const double rebuilt = innerHeating(true, 1.0, kCompression);
+  EXPECT_GT(rebuilt, 0.7 * plain);
+  EXPECT_LT(rebuilt, plain);
+}
+
+TEST(ViscosityReconstruction, IsochoricGate) {
+  using solvers::pair::isochoricGate;
+  EXPECT_EQ(isochoricGate<3>(Tensor<3>::Zero()), 1.0);
+  EXPECT_EQ(isochoricGate<2>(kShear), 1.0);
+  EXPECT_NEAR(isochoricGate<3>(Tensor<3>{{-2.0, 0, 0}, {0, 0, 0}, {0, 0, 0}}), std::exp(-1.0),
+              1e-15); // uniaxial strain
+  EXPECT_NEAR(isochoricGate<3>(-Tensor<3>::Identity()), std::exp(-3.0), 1e-15);
 }

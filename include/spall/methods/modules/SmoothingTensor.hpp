@@ -10,7 +10,8 @@ public:
   void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override {
     f.registerSmoothingTensor(s);
   }
-  void initialise(ParticleStore& s, const ParticleFields<Dim>& f) const override {
+  void initialise(ParticleStore& s, const ParticleFields<Dim>& f,
+                  const RunStart& /*start*/) const override {
     for (std::size_t i = 0; i < s.localCount(); ++i)
       s[f.H][i] = Tensor<Dim>::Identity() / s[f.h][i];
   }

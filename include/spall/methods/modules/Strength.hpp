@@ -16,7 +16,8 @@ public:
   void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override {
     f.registerStrength(s, gradientInHalo_);
   }
-  void initialise(ParticleStore& s, const ParticleFields<Dim>& f) const override {
+  void initialise(ParticleStore& s, const ParticleFields<Dim>& f,
+                  const RunStart& /*start*/) const override {
     const auto mat = s[f.material];
     const auto T = s[f.temperature];
     for (std::size_t i = 0; i < s.localCount(); ++i) {

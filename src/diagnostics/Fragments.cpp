@@ -1,0 +1,168 @@
+#include "spall/diagnostics/Fragments.hpp"
+
+#include "spall/core/Random.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <numeric>
+#include <unordered_map>
+
+namespace spall::diagnostics {
+
+namespace {
+
+struct UnionFind {
+  std::vector<std::uint32_t> parent;
+  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+  std::uint32_t find(std::uint32_t a) {
+    while (parent[a] != a) a = parent[a] = parent[parent[a]];
+    return a;
+  }
+  void join(std::uint32_t a, std::uint32_t b) {
+    a = find(a), b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+};
+
+// What a particle contributes to its fragment's totals, sent to the label's home rank.
+struct Member {
+  ParticleId label, id;
+  double m;
+  double x[3], v[3];
+};
+
+int homeOf(ParticleId label, int ranks) {
+  return static_cast<int>(splitmix64(label) % static_cast<std::uint64_t>(ranks));
+}
+
+// Exchanges variable-length blocks of trivially copyable records: out[r] goes to rank r.
+template <class T> std::vector<T> allToAll(const std::vector<std::vector<T>>& out, MPI_Comm comm) {
+  const int P = static_cast<int>(out.size());
+  std::vector<int> sendCounts(P), recvCounts(P), sendOff(P + 1, 0), recvOff(P + 1, 0);
+  for (int r = 0; r < P; ++r) sendCounts[r] = static_cast<int>(out[r].size() * sizeof(T));
+  MPI_Alltoall(sendCounts.data(), 1, MPI_INT, recvCounts.data(), 1, MPI_INT, comm);
+  for (int r = 0; r < P; ++r) {
+    sendOff[r + 1] = sendOff[r] + sendCounts[r];
+    recvOff[r + 1] = recvOff[r] + recvCounts[r];
+  }
+  std::vector<std::byte> send(static_cast<std::size_t>(sendOff[P]));
+  for (int r = 0; r < P; ++r)
+    if (!out[r].empty())
+      std::memcpy(send.data() + sendOff[r], out[r].data(), out[r].size() * sizeof(T));
+  std::vector<T> in(static_cast<std::size_t>(recvOff[P]) / sizeof(T));
+  MPI_Alltoallv(send.data(), sendCounts.data(), sendOff.data(), MPI_BYTE, in.data(),
+                recvCounts.data(), recvOff.data(), MPI_BYTE, comm);
+  return in;
+}
+
+} // namespace
+
+template <int Dim>
+FragmentCatalogue findFragments(const FragmentInput<Dim>& in, const GhostRefresh& refresh,
+                                MPI_Comm comm) {
+  int rank = 0, ranks = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &ranks);
+  const std::size_t rows = in.id.size(), n = in.owned;
+
+  // Friends among this rank's rows.
+  UnionFind uf(rows);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!in.linkable[i]) continue;
+    for (const std::uint32_t j : in.pairs->of(i)) {
+      if (j >= rows || !in.linkable[j]) continue;
+      const double reach = 0.5 * (in.linkRadius[i] + in.linkRadius[j]);
+      if ((in.x[i] - in.x[j]).squaredNorm() <= reach * reach)
+        uf.join(static_cast<std::uint32_t>(i), j);
+    }
+  }
+  std::vector<std::uint32_t> root(rows);
+  for (std::size_t r = 0; r < rows; ++r) root[r] = uf.find(static_cast<std::uint32_t>(r));
+
+  // The smallest id each component reaches, across ranks.
+  std::vector<ParticleId> label(in.id.begin(), in.id.end());
+  std::vector<ParticleId> best(rows, ~ParticleId{0});
+  for (int round = 0;; ++round) {
+    std::fill(best.begin(), best.end(), ~ParticleId{0});
+    for (std::size_t r = 0; r < rows; ++r) best[root[r]] = std::min(best[root[r]], label[r]);
+    int changed = 0;
+    for (std::size_t r = 0; r < n; ++r)
+      if (best[root[r]] != label[r]) label[r] = best[root[r]], changed = 1;
+    MPI_Allreduce(MPI_IN_PLACE, &changed, 1, MPI_INT, MPI_MAX, comm);
+    if (!changed && round > 0) break;
+    refresh(label); // ghosts take their owners' labels
+  }
+
+  // Totals at each label's home rank, summed in id order.
+  std::vector<std::vector<Member>> out(static_cast<std::size_t>(ranks));
+  for (std::size_t i = 0; i < n; ++i) {
+    Member mb{label[i], in.id[i], in.m[i], {0, 0, 0}, {0, 0, 0}};
+    for (int d = 0; d < Dim; ++d) mb.x[d] = in.x[i][d], mb.v[d] = in.v[i][d];
+    out[static_cast<std::size_t>(homeOf(label[i], ranks))].push_back(mb);
+  }
+  std::vector<Member> mine = allToAll(out, comm);
+  std::sort(mine.begin(), mine.end(), [](const Member& a, const Member& b) {
+    return a.label != b.label ? a.label < b.label : a.id < b.id;
+  });
+  std::vector<Fragment> local;
+  for (std::size_t k = 0; k < mine.size();) {
+    std::size_t e = k;
+    while (e < mine.size() && mine[e].label == mine[k].label) ++e;
+    Fragment f;
+    f.label = mine[k].label;
+    f.particles = e - k;
+    double mx[3] = {0, 0, 0}, mv[3] = {0, 0, 0};
+    for (std::size_t q = k; q < e; ++q) {
+      f.mass += mine[q].m;
+      for (int d = 0; d < Dim; ++d) {
+        // Periodic axes: each member's nearest image to the first (lowest id) member.
+        double x = mine[q].x[d];
+        if (in.period[d] > 0.0) {
+          const double L = in.period[d];
+          x -= L * std::round((x - mine[k].x[d]) / L);
+        }
+        mx[d] += mine[q].m * x;
+        mv[d] += mine[q].m * mine[q].v[d];
+      }
+    }
+    for (int d = 0; d < Dim; ++d) f.x[d] = mx[d] / f.mass, f.v[d] = mv[d] / f.mass;
+    local.push_back(f);
+    k = e;
+  }
+
+  // The catalogue on rank 0, in order; every rank learns each fragment's place.
+  FragmentCatalogue cat;
+  const int mineBytes = static_cast<int>(local.size() * sizeof(Fragment));
+  std::vector<int> counts(static_cast<std::size_t>(ranks)),
+      offsets(static_cast<std::size_t>(ranks) + 1, 0);
+  MPI_Gather(&mineBytes, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);
+  for (int r = 0; r < ranks; ++r) offsets[r + 1] = offsets[r] + counts[r];
+  std::vector<Fragment> all(rank == 0 ? static_cast<std::size_t>(offsets[ranks]) / sizeof(Fragment)
+                                      : 0);
+  MPI_Gatherv(local.data(), mineBytes, MPI_BYTE, all.data(), counts.data(), offsets.data(),
+              MPI_BYTE, 0, comm);
+  std::uint64_t count = all.size();
+  MPI_Bcast(&count, 1, MPI_UINT64_T, 0, comm);
+  std::sort(all.begin(), all.end(), [](const Fragment& a, const Fragment& b) {
+    return a.mass != b.mass ? a.mass > b.mass : a.label < b.label;
+  });
+  std::vector<ParticleId> order(count);
+  for (std::size_t k = 0; k < all.size(); ++k) order[k] = all[k].label;
+  MPI_Bcast(order.data(), static_cast<int>(count), MPI_UINT64_T, 0, comm);
+  std::unordered_map<ParticleId, std::int64_t> place;
+  place.reserve(count);
+  for (std::size_t k = 0; k < order.size(); ++k)
+    place.emplace(order[k], static_cast<std::int64_t>(k));
+  cat.index.resize(n);
+  for (std::size_t i = 0; i < n; ++i) cat.index[i] = place.at(label[i]);
+  cat.count = count;
+  cat.fragments = std::move(all);
+  return cat;
+}
+
+template FragmentCatalogue findFragments<1>(const FragmentInput<1>&, const GhostRefresh&, MPI_Comm);
+template FragmentCatalogue findFragments<2>(const FragmentInput<2>&, const GhostRefresh&, MPI_Comm);
+template FragmentCatalogue findFragments<3>(const FragmentInput<3>&, const GhostRefresh&, MPI_Comm);
+
+} // namespace spall::diagnostics
