@@ -162,6 +162,7 @@ template <int Dim> void Simulation<Dim>::resolveOutputFields() {
     if (c->info().flags & kOutput) available.push_back(c->info().name);
   available.push_back("smoothing");
   available.push_back("stress");
+  if (f_.damageTensor.valid()) available.push_back("damage_tensor");
   if (deck_.output.fields.empty()) {
     outputFields_ = available;
     return;
@@ -217,6 +218,16 @@ template <int Dim> void Simulation<Dim>::writeSnapshot(bool write) {
                             for (std::size_t i = 0; i < n; ++i) {
                               sigma[i] = -p[i] * Tensor<Dim>::Identity();
                               if (!S.empty()) sigma[i] += S[i].template topLeftCorner<Dim, Dim>();
+                            }
+                          }});
+      } else if (name == "damage_tensor") {
+        // Owen's damage tensor, the Dim x Dim block of the 3x3 the material update keeps.
+        const auto D = store_[f_.damageTensor];
+        fields.push_back({tensor, nullptr, [D, n](void* rows) {
+                            auto* out = static_cast<double*>(rows);
+                            for (std::size_t i = 0; i < n; ++i) {
+                              const Tensor<Dim> block = D[i].template topLeftCorner<Dim, Dim>();
+                              std::memcpy(out + i * Dim * Dim, block.data(), sizeof(block));
                             }
                           }});
       } else {

@@ -42,7 +42,8 @@ std::optional<materials::Strength> buildStrength(const StrengthConfig& c) {
 }
 
 std::optional<materials::Damage> buildDamage(const DamageConfig& c) {
-  if (c.type == "grady_kipp") return materials::GradyKipp{c.weibull_k, c.weibull_m, c.crack_speed};
+  if (c.type == "grady_kipp")
+    return materials::GradyKipp{c.weibull_k, c.weibull_m, c.crack_speed, c.mode == "tensor"};
   if (c.type == "johnson_cook")
     return materials::JohnsonCookDamage{c.D1,
                                         c.D2,
@@ -105,10 +106,9 @@ std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck
   bool damage = false;
   for (const auto& m : deck.materials) {
     damage = damage || m.damage.type != "none";
-    flaws.push_back(m.damage.type == "grady_kipp"
-                        ? std::optional<materials::GradyKipp>(materials::GradyKipp{
-                              m.damage.weibull_k, m.damage.weibull_m, m.damage.crack_speed})
-                        : std::nullopt);
+    const auto model = buildDamage(m.damage);
+    const auto* g = model ? std::get_if<materials::GradyKipp>(&*model) : nullptr;
+    flaws.push_back(g ? std::optional<materials::GradyKipp>(*g) : std::nullopt);
   }
   if (damage) list.push_back(std::make_unique<methods::Damage<Dim>>(flaws, deck.run.seed));
   if (solids && solver.velocity_gradient == VelocityGradient::Corrected)

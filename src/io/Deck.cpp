@@ -261,10 +261,7 @@ void DeckReader::readDamage(const TableReader& r, DamageConfig& c) const {
     c.crack_speed = r.number("crack_speed").value_or(c.crack_speed);
     r.check(c.crack_speed > 0.0 && c.crack_speed <= 1.0, "crack_speed",
             "in (0, 1] (a fraction of the longitudinal sound speed)", c.crack_speed);
-    const auto mode = r.string("mode");
-    if (mode && *mode == "tensor")
-      r.fail("mode", "damage mode 'tensor' (Owen 2010) is not available yet; use \"scalar\"");
-    c.mode = r.choice("mode", {"scalar"}, "scalar");
+    c.mode = r.choice("mode", {"scalar", "tensor"}, "scalar");
   } else {
     c.D1 = need("D1");
     c.D2 = need("D2");

@@ -22,6 +22,12 @@ bool MaterialUpdate::anyFlaws() const {
                      [](const Material& m) { return m.scalesWithDamage(); });
 }
 
+bool MaterialUpdate::anyTensorDamage() const {
+  return std::any_of(materials_.begin(), materials_.end(), [](const Material& m) {
+    return m.scalesWithDamage() && std::get<GradyKipp>(*m.damage).tensor;
+  });
+}
+
 // One visit per material, then a plain loop over its particles: no dispatch per particle. A
 // damaged material's pressure is degraded as in `update` (the deviator is left as it is).
 void MaterialUpdate::evaluate(const MaterialFields& f) const {
@@ -31,14 +37,22 @@ void MaterialUpdate::evaluate(const MaterialFields& f) const {
     const double G = shearModulusOf(mat);
     const auto id = static_cast<std::int32_t>(k);
     const bool damage = mat.damage.has_value(), scales = mat.scalesWithDamage();
+    const bool tensorMode = scales && std::get<GradyKipp>(*mat.damage).tensor;
     std::visit(
         [&](const auto& eos) {
           for (std::size_t i = 0; i < n; ++i) {
             if (f.material[i] != id) continue;
             const MaterialResponse r = evaluateEos(eos, G, f.rho[i], f.e[i]);
-            f.p[i] =
-                damage ? degrade(r.p, Tensor<3>::Zero(), f.damage[i], scales, mat.erosion).p : r.p;
             f.cs[i] = r.cs;
+            if (tensorMode) { // which principal stresses are tensile depends on p: S follows
+              const DamagedStress c = degrade(degradeTensor(r.p, f.Sintact[i], f.damageTensor[i]),
+                                              f.damage[i], mat.erosion);
+              f.p[i] = c.p;
+              f.S[i] = c.S;
+            } else {
+              f.p[i] = damage ? degrade(r.p, Tensor<3>::Zero(), f.damage[i], scales, mat.erosion).p
+                              : r.p;
+            }
           }
         },
         mat.eos);
@@ -96,6 +110,7 @@ void MaterialUpdate::updateDamaged(const Material& mat, std::int32_t id, const M
   const std::size_t n = f.rho.size();
   const bool scales = mat.scalesWithDamage();
   const bool freezeFailed = mat.erosion == Erosion::ZeroStress;
+  const bool tensorMode = scales && std::get<GradyKipp>(*mat.damage).tensor;
   std::visit(
       [&](const auto& eos, const auto& strength, const auto& damage) {
         using D = std::decay_t<decltype(damage)>;
@@ -114,12 +129,23 @@ void MaterialUpdate::updateDamaged(const Material& mat, std::int32_t id, const M
             // R_s: the radius of the sphere of the particle's flaw volume V = scale^-m / k.
             const double V = std::pow(scale, -damage.m) / damage.k;
             const double Rs = std::cbrt(3.0 * V / (4.0 * std::numbers::pi));
-            const FlawState fs = advanceFlaws({f.damage[i], f.flawsActive[i], f.flawNext[i]}, eps,
-                                              dt, damage.crackSpeed * cs, Rs, f.flawCount[i], scale,
-                                              damage.m, seed_, f.id[i]);
-            f.damage[i] = fs.D;
-            f.flawsActive[i] = fs.active;
-            f.flawNext[i] = fs.next;
+            if (damage.tensor) {
+              const TensorFlawState ts = advanceTensorFlaws(
+                  {f.damageTensor[i], f.strainTensor[i], f.flawsActive[i], f.flawNext[i]}, f.L[i],
+                  dt, damage.crackSpeed * cs, Rs, f.flawCount[i], scale, damage.m, seed_, f.id[i]);
+              f.damageTensor[i] = ts.D;
+              f.strainTensor[i] = ts.eps;
+              f.flawsActive[i] = ts.active;
+              f.flawNext[i] = ts.next;
+              f.damage[i] = largestEigenvalue<3>(ts.D);
+            } else {
+              const FlawState fs = advanceFlaws({f.damage[i], f.flawsActive[i], f.flawNext[i]}, eps,
+                                                dt, damage.crackSpeed * cs, Rs, f.flawCount[i],
+                                                scale, damage.m, seed_, f.id[i]);
+              f.damage[i] = fs.D;
+              f.flawsActive[i] = fs.active;
+              f.flawNext[i] = fs.next;
+            }
           } else {
             f.damage[i] = damage.advance(f.damage[i], next.plasticStrain - before.plasticStrain, dt,
                                          st.p, vonMisesStress(next.S), next.temperature);
@@ -127,7 +153,10 @@ void MaterialUpdate::updateDamaged(const Material& mat, std::int32_t id, const M
           f.Sintact[i] = next.S;
           f.plasticStrain[i] = next.plasticStrain;
           f.temperature[i] = next.temperature;
-          const DamagedStress carried = degrade(st.p, next.S, f.damage[i], scales, mat.erosion);
+          const DamagedStress carried =
+              tensorMode ? degrade(degradeTensor(st.p, next.S, f.damageTensor[i]), f.damage[i],
+                                   mat.erosion)
+                         : degrade(st.p, next.S, f.damage[i], scales, mat.erosion);
           f.p[i] = carried.p;
           f.S[i] = carried.S;
           f.cs[i] = cs;

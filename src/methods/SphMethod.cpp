@@ -268,6 +268,10 @@ template <int Dim> materials::MaterialFields SphMethod<Dim>::materialFields() {
     mf.flawScale = s_[f_.flawScale].first(n);
     mf.flawNext = s_[f_.flawNext].first(n);
   }
+  if (f_.damageTensor.valid()) {
+    mf.damageTensor = s_[f_.damageTensor].first(n);
+    mf.strainTensor = s_[f_.strainTensor].first(n);
+  }
   return mf;
 }
 

@@ -70,7 +70,9 @@ CASES = [("sod_1d.toml", []), ("rod_impact_copper.toml", ["run.end_time=6e-6"]),
          # damage: flaws from (seed, id), damage through the halo, failed pairs, mid-spall
          ("spall_plate_1d.toml", ["run.end_time=2.2e-6"]),
          # 2D damage and fragments: `fragment` (friends of friends across ranks) bit for bit
-         ("rock_impact_2d.toml", ["run.end_time=4e-6"])]
+         ("rock_impact_2d.toml", ["run.end_time=4e-6"]),
+         # Owen's tensor damage: the damage and strain tensors, eigen-decompositions per particle
+         ("rock_impact_2d.toml", ["run.end_time=3e-6", 'material.basalt.damage.mode="tensor"'])]
 
 with tempfile.TemporaryDirectory() as tmp:
     tmp = Path(tmp)

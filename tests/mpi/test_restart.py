@@ -202,6 +202,16 @@ with tempfile.TemporaryDirectory() as tmp:
     run(spall, 2, half, ["run.end_time=2.2e-6"], restart="latest")
     same_state(full, half, "spall plate (damage), 2 ranks, restart mid-failure")
 
+    # Tensor damage and fragments in 2D: the damage and strain tensors are checkpointed; the
+    # `fragment` field of the snapshots after the restart is found again, identically.
+    rock = SRC / "decks/rock_impact_2d.toml"
+    tensor = 'material.basalt.damage.mode="tensor"'
+    full, half = tmp / "rock_full", tmp / "rock_half"
+    run(rock, 2, full, ["run.end_time=4e-6", tensor])
+    run(rock, 2, half, ["run.end_time=2e-6", tensor])
+    run(rock, 2, half, ["run.end_time=4e-6", tensor], restart="latest")
+    same_state(full, half, "rock impact (tensor damage, fragments), 2 ranks, restart")
+
     # ---- N to M ------------------------------------------------------------------------------
     ckpt = tmp / "half2" / "checkpoints"
     for ranks in (1, 3):

@@ -42,6 +42,8 @@ template <int Dim> struct ParticleFields {
   Field<Tensor<3>> Sintact;
   Field<std::int32_t> flawCount, flawsActive;
   Field<double> flawScale, flawNext;
+  // Owen's tensor damage (mode "tensor"): the damage tensor and the strain history it grows along.
+  Field<Tensor<3>> damageTensor, strainTensor;
 
   // [fragments]: each particle's place in the fragment catalogue of the last snapshot (0: the
   // most massive fragment). Written at snapshots, not checkpointed.
@@ -94,7 +96,7 @@ template <int Dim> struct ParticleFields {
     plasticStrain = s.add<double>("plastic_strain", kOutput | kCheckpoint);
     temperature = s.add<double>("temperature", kOutput | kCheckpoint);
   }
-  void registerDamage(ParticleStore& s, bool flaws) {
+  void registerDamage(ParticleStore& s, bool flaws, bool tensor = false) {
     constexpr unsigned out = kOutput | kCheckpoint;
     damage = s.add<double>("damage", out | kHalo);
     Sintact = s.add<Tensor<3>>("deviatoric_stress_intact", kCheckpoint);
@@ -103,6 +105,10 @@ template <int Dim> struct ParticleFields {
     flawsActive = s.add<std::int32_t>("flaws_active", out);
     flawScale = s.add<double>("flaw_strain_scale", kCheckpoint);
     flawNext = s.add<double>("next_flaw_strain", out);
+    if (!tensor) return;
+    // Snapshots get the Dim x Dim block as `damage_tensor` (app/RunOutput.cpp).
+    damageTensor = s.add<Tensor<3>>("damage_tensor_3x3", kCheckpoint);
+    strainTensor = s.add<Tensor<3>>("strain_tensor", kCheckpoint);
   }
   // Sent to ghosts on its own, after it is computed (not with the halo).
   void registerKernelCorrection(ParticleStore& s) {

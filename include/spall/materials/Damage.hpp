@@ -11,7 +11,8 @@
 // of the sphere of the particle's volume (the cracked fraction of that sphere, (c_g t / R_s)^3),
 // and D never exceeds n_active / n_flaws: a particle is fully damaged only when all its flaws are
 // active. Damaged material carries compression undiminished, (1 - D) of a tension and (1 - D) of
-// the deviatoric stress.
+// the deviatoric stress. In Owen's tensor mode (2010, Sec. III) the damage is a tensor grown
+// along the principal directions of a strain history (below).
 //
 // Johnson & Cook (1985), in the form of Austin (2013), Eq. 6.5: dD = d eps_p / eps_f, eps_f =
 // [D1 + D2 exp(D3 sigma*)][1 + D4 ln rate*][1 + D5 T*], sigma* = -p / sigma_eq the stress
@@ -26,6 +27,7 @@
 #include "spall/core/Random.hpp"
 #include "spall/core/SymmetricEigen.hpp"
 #include "spall/core/Types.hpp"
+#include "spall/materials/Strength.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -38,11 +40,12 @@ namespace spall::materials {
 
 enum class Erosion { None, NoTension, NoShear, ZeroStress };
 
-// damage = {type = "grady_kipp", weibull_k, weibull_m, crack_speed, mode = "scalar"}
+// damage = {type = "grady_kipp", weibull_k, weibull_m, crack_speed, mode = "scalar" | "tensor"}
 struct GradyKipp {
   double k = 0.0;          // flaws per m^3 at unit strain
   double m = 0.0;          // Weibull exponent
   double crackSpeed = 0.4; // c_g over the longitudinal sound speed
+  bool tensor = false;     // Owen (2010), Sec. III: damage per principal strain direction
 };
 
 // damage = {type = "johnson_cook", D1, D2, D3, D4, D5, reference_strain_rate, room_temperature,
@@ -170,11 +173,83 @@ inline double tensileStrain(double p, const Tensor<3>& S, double K, double G) {
   return E > 0.0 ? largestEigenvalue<3>(sigma) / E : 0.0;
 }
 
-// ---- What a damaged particle carries -----------------------------------------------------------
 struct DamagedStress {
   double p = 0.0;
   Tensor<3> S = Tensor<3>::Zero();
 };
+
+// ---- Tensor damage (Owen 2010, Sec. III) -------------------------------------------------------
+// Damage is a symmetric tensor that grows along the principal directions of a strain tensor, a
+// history variable advanced from the velocity gradient with the material's rotation (the same
+// objective update as S: eps <- Q (Q eps Q^T + dt D) Q^T, the damage tensor rotated alike), so
+// that cracks open across the direction the material is pulled in and turn with it. The flaws are
+// the particle's Grady-Kipp flaws: the largest principal strain activates them; every direction
+// whose principal strain has passed the weakest flaw's activation strain grows its damage
+// d = n.D.n as the scalar model does, d^(1/3) by c_g dt / R_s, capped at n_active / n_flaws (one
+// count for the particle: the flaws are not split by direction). Eigenvalues stay in [0, 1]. The
+// particle's scalar `damage` is the largest: a crack through it in some direction.
+struct TensorFlawState {
+  Tensor<3> D = Tensor<3>::Zero(), eps = Tensor<3>::Zero();
+  std::int32_t active = 0;
+  double next = 0.0;
+};
+
+inline TensorFlawState advanceTensorFlaws(const TensorFlawState& s, const Tensor<3>& L, double dt,
+                                          double cg, double Rs, std::int32_t count, double scale,
+                                          double m, std::uint64_t seed, std::uint64_t id) {
+  TensorFlawState out = s;
+  const Tensor<3> Q = halfStepRotation(L, dt);
+  const Tensor<3> Dsym = 0.5 * (L + L.transpose());
+  out.eps = Q * (Q * s.eps * Q.transpose() + dt * Dsym) * Q.transpose();
+  out.D = Q * (Q * s.D * Q.transpose()) * Q.transpose();
+  const SymmetricEigen<3> e = symmetricEigen<3>(out.eps);
+  while (out.active < count && e.values[2] >= out.next) {
+    ++out.active;
+    out.next = out.active < count ? flawStrain(seed, id, out.active + 1, scale, m)
+                                  : std::numeric_limits<double>::infinity();
+  }
+  if (out.active == 0) return out;
+  const double cap = static_cast<double>(out.active) / static_cast<double>(count);
+  const double weakest = flawStrain(seed, id, 1, scale, m);
+  bool grew = false;
+  for (int k = 0; k < 3; ++k) {
+    if (e.values[k] < weakest) continue;
+    const Vec<3> n = e.vectors.col(k);
+    const double d = n.dot(out.D * n);
+    if (d >= cap) continue;
+    const double root = std::cbrt(std::max(d, 0.0)) + cg * dt / Rs;
+    out.D += (std::min(cap, root * root * root) - d) * (n * n.transpose());
+    grew = true;
+  }
+  if (grew) { // directions that are not exactly orthogonal to the tensor's axes: keep [0, 1]
+    const SymmetricEigen<3> d = symmetricEigen<3>(0.5 * (out.D + out.D.transpose()));
+    out.D = d.vectors * d.values.cwiseMax(0.0).cwiseMin(1.0).asDiagonal() * d.vectors.transpose();
+  }
+  return out;
+}
+
+// What a particle with the damage tensor D carries of the intact stress -p I + S: compressive
+// principal stresses unchanged, the tensile part sigma+ as (I - D)^(1/2) sigma+ (I - D)^(1/2). A
+// crack with normal n (D = n n^T) then transmits no tension across n and no shear along its
+// plane; an isotropic D = d I gives the scalar model's (1 - d) sigma+.
+inline DamagedStress degradeTensor(double p, const Tensor<3>& S, const Tensor<3>& D) {
+  const Tensor<3> I = Tensor<3>::Identity();
+  const Tensor<3> sigma = S - p * I;
+  const SymmetricEigen<3> e = symmetricEigen<3>(sigma);
+  Tensor<3> plus = Tensor<3>::Zero();
+  for (int k = 0; k < 3; ++k)
+    if (e.values[k] > 0.0) plus += e.values[k] * (e.vectors.col(k) * e.vectors.col(k).transpose());
+  if (plus.isZero(0.0)) return {p, S};
+  const SymmetricEigen<3> d = symmetricEigen<3>(D);
+  const Tensor<3> R =
+      d.vectors * (Vec<3>::Ones() - d.values.cwiseMax(0.0).cwiseMin(1.0)).cwiseSqrt().asDiagonal() *
+      d.vectors.transpose();
+  const Tensor<3> carried = sigma - plus + R * plus * R;
+  const double pc = -carried.trace() / 3.0;
+  return {pc, carried + pc * I};
+}
+
+// ---- What a damaged particle carries -----------------------------------------------------------
 
 // Grady-Kipp: (1 - D) of a tension and of the deviator (Benz & Asphaug 1994); Johnson-Cook: the
 // intact stress until failure. Then, for a fully damaged particle, the erosion option.
@@ -207,6 +282,12 @@ inline DamagedStress degrade(double p, const Tensor<3>& S, double D, bool scales
 
 // Whether a fully damaged particle of this model and erosion carries tension: if not, the pairs
 // it belongs to carry compression only (the solver's damaged-pair rule).
+// Tensor damage: the erosion option on the tensor-degraded stress once a crack runs through the
+// particle in some direction (its scalar damage, the largest eigenvalue, is 1).
+inline DamagedStress degrade(const DamagedStress& tensorDegraded, double D, Erosion erosion) {
+  return degrade(tensorDegraded.p, tensorDegraded.S, D, false, erosion);
+}
+
 inline bool failedCarriesTension(bool scalesWithDamage, Erosion erosion) {
   if (scalesWithDamage) return false;
   return erosion == Erosion::None || erosion == Erosion::NoShear;

@@ -61,6 +61,7 @@ struct MaterialFields {
   std::span<std::int32_t> flawsActive = {};
   std::span<const double> flawScale = {};
   std::span<double> flawNext = {};
+  std::span<Tensor<3>> damageTensor = {}, strainTensor = {}; // tensor damage
 };
 
 class MaterialUpdate {
@@ -77,6 +78,7 @@ public:
   void update(const MaterialFields& f, double dt) const;
   bool anyDamage() const;
   bool anyFlaws() const;
+  bool anyTensorDamage() const;
 
 private:
   void updateDamaged(const Material& mat, std::int32_t id, const MaterialFields& f,

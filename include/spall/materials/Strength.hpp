@@ -30,12 +30,20 @@ struct StrengthState {
   double temperature = 0.0;   // K (Johnson-Cook only; others leave it alone)
 };
 
+// The rotation of half a step with the spin W of L (Hughes & Winget 1980): the objective update
+// of every tensor a particle carries (S here, the damage and strain tensors of
+// materials/Damage.hpp).
+inline Mat3 halfStepRotation(const Mat3& L, double dt) {
+  const Mat3 W = 0.5 * (L - L.transpose());
+  const Mat3 I = Mat3::Identity();
+  return (I - 0.25 * dt * W).inverse() * (I + 0.25 * dt * W);
+}
+
 // The elastic trial step shared by every model: rotate S with the spin, add 2 G D' dt.
 inline Mat3 elasticTrial(const Mat3& S, const Mat3& L, double dt, double G) {
   const Mat3 D = 0.5 * (L + L.transpose());
-  const Mat3 W = 0.5 * (L - L.transpose());
   const Mat3 I = Mat3::Identity();
-  const Mat3 Q = (I - 0.25 * dt * W).inverse() * (I + 0.25 * dt * W);
+  const Mat3 Q = halfStepRotation(L, dt);
   const Mat3 Ddev = D - (D.trace() / 3.0) * I;
   return Q * (Q * S * Q.transpose() + (2.0 * G * dt) * Ddev) * Q.transpose();
 }

@@ -460,8 +460,8 @@ TEST_F(DeckTest, DamageTypesAndTheirKeys) {
   at(t, "{ type", "weibull_k");
   t = withLine(kDeck1D, 15,
                kElastic + "damage = { type = \"grady_kipp\", weibull_k = 1e35, "
-                          "weibull_m = 9.0, mode = \"tensor\" }");
-  at(t, "\"tensor\"", "'tensor' (Owen 2010) is not available yet");
+                          "weibull_m = 9.0, mode = \"tensorial\" }");
+  at(t, "\"tensorial\"", "tensor");
   t = withLine(kDeck1D, 15,
                kElastic + "damage = { type = \"johnson_cook\", D1 = 0.05, D2 = 3.44, "
                           "D3 = -2.12, D4 = 0.002, D5 = 0.61, reference_strain_rate = "

@@ -17,10 +17,13 @@ public:
   // flaws: by material, the Grady-Kipp model of the materials that have one.
   Damage(std::vector<std::optional<materials::GradyKipp>> flaws, std::uint64_t seed)
       : flaws_(std::move(flaws)), seed_(seed) {
-    for (const auto& g : flaws_) anyFlaws_ = anyFlaws_ || g.has_value();
+    for (const auto& g : flaws_) {
+      anyFlaws_ = anyFlaws_ || g.has_value();
+      anyTensor_ = anyTensor_ || (g && g->tensor);
+    }
   }
   void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override {
-    f.registerDamage(s, anyFlaws_);
+    f.registerDamage(s, anyFlaws_, anyTensor_);
   }
   void initialise(ParticleStore& s, const ParticleFields<Dim>& f,
                   const RunStart& start) const override {
@@ -28,6 +31,7 @@ public:
     for (std::size_t i = 0; i < s.localCount(); ++i) {
       s[f.damage][i] = 0.0;
       s[f.Sintact][i].setZero();
+      if (anyTensor_) s[f.damageTensor][i].setZero(), s[f.strainTensor][i].setZero();
     }
     if (!anyFlaws_) return;
     const auto id = s[f.id];
@@ -55,7 +59,7 @@ public:
 private:
   std::vector<std::optional<materials::GradyKipp>> flaws_; // by material
   std::uint64_t seed_;
-  bool anyFlaws_ = false;
+  bool anyFlaws_ = false, anyTensor_ = false;
 };
 
 } // namespace spall::methods
