@@ -25,11 +25,13 @@ struct UnionFind {
   }
 };
 
-// What a particle contributes to its fragment's totals, sent to the label's home rank.
-struct Member {
-  ParticleId label, id;
-  double m;
-  double x[3], v[3];
+// A fragment's share on one rank, sent to the label's home rank: its members there, their exact
+// mass (fixed point), and the sums for the centre of mass about the share's first member.
+struct Partial {
+  Int128 q = 0;                    // sum of the members' fixed-point masses
+  ParticleId label = 0, first = 0; // first: the share's smallest id
+  std::uint64_t count = 0;
+  double m = 0.0, ref[3] = {0, 0, 0}, mx[3] = {0, 0, 0}, mv[3] = {0, 0, 0};
 };
 
 int homeOf(ParticleId label, int ranks) {
@@ -94,41 +96,67 @@ FragmentCatalogue findFragments(const FragmentInput<Dim>& in, const GhostRefresh
     refresh(label); // ghosts take their owners' labels
   }
 
-  // Totals at each label's home rank, summed in id order.
-  std::vector<std::vector<Member>> out(static_cast<std::size_t>(ranks));
-  for (std::size_t i = 0; i < n; ++i) {
-    Member mb{label[i], in.id[i], in.m[i], {0, 0, 0}, {0, 0, 0}};
-    for (int d = 0; d < Dim; ++d) mb.x[d] = in.x[i][d], mb.v[d] = in.v[i][d];
-    out[static_cast<std::size_t>(homeOf(label[i], ranks))].push_back(mb);
+  // Each rank's share of each fragment (members in id order), summed at the label's home rank:
+  // one record per fragment and rank, however large the fragment.
+  double mMax = 0.0;
+  for (std::size_t i = 0; i < n; ++i) mMax = std::max(mMax, in.m[i]);
+  MPI_Allreduce(MPI_IN_PLACE, &mMax, 1, MPI_DOUBLE, MPI_MAX, comm);
+  const FixedMass fixed(mMax);
+  std::vector<std::uint32_t> byLabel(n);
+  std::iota(byLabel.begin(), byLabel.end(), 0u);
+  std::sort(byLabel.begin(), byLabel.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return label[a] != label[b] ? label[a] < label[b] : in.id[a] < in.id[b];
+  });
+  const auto unwrap = [&](double x, double ref, int d) {
+    // Periodic axes: the image nearest the reference.
+    return in.period[d] > 0.0 ? x - in.period[d] * std::round((x - ref) / in.period[d]) : x;
+  };
+  std::vector<std::vector<Partial>> out(static_cast<std::size_t>(ranks));
+  for (std::size_t k = 0; k < n;) {
+    const std::uint32_t i0 = byLabel[k];
+    Partial pt;
+    pt.label = label[i0];
+    pt.first = in.id[i0];
+    for (int d = 0; d < Dim; ++d) pt.ref[d] = in.x[i0][d];
+    for (; k < n && label[byLabel[k]] == pt.label; ++k) {
+      const std::uint32_t i = byLabel[k];
+      ++pt.count;
+      pt.q += fixed.of(in.m[i]);
+      pt.m += in.m[i];
+      for (int d = 0; d < Dim; ++d) {
+        pt.mx[d] += in.m[i] * unwrap(in.x[i][d], pt.ref[d], d);
+        pt.mv[d] += in.m[i] * in.v[i][d];
+      }
+    }
+    out[static_cast<std::size_t>(homeOf(pt.label, ranks))].push_back(pt);
   }
-  std::vector<Member> mine = allToAll(out, comm);
-  std::sort(mine.begin(), mine.end(), [](const Member& a, const Member& b) {
-    return a.label != b.label ? a.label < b.label : a.id < b.id;
+  std::vector<Partial> mine = allToAll(out, comm);
+  // The share holding the label (the fragment's smallest id) first: its first member is the
+  // reference of the periodic images, the same on any rank count.
+  std::sort(mine.begin(), mine.end(), [](const Partial& a, const Partial& b) {
+    return a.label != b.label ? a.label < b.label : a.first < b.first;
   });
   std::vector<Fragment> local;
   for (std::size_t k = 0; k < mine.size();) {
-    std::size_t e = k;
-    while (e < mine.size() && mine[e].label == mine[k].label) ++e;
+    const Partial& head = mine[k];
     Fragment f;
-    f.label = mine[k].label;
-    f.particles = e - k;
-    double mx[3] = {0, 0, 0}, mv[3] = {0, 0, 0};
-    for (std::size_t q = k; q < e; ++q) {
-      f.mass += mine[q].m;
+    f.label = head.label;
+    Int128 q = 0;
+    double m = 0.0, mx[3] = {0, 0, 0}, mv[3] = {0, 0, 0};
+    for (; k < mine.size() && mine[k].label == head.label; ++k) {
+      const Partial& pt = mine[k];
+      f.particles += pt.count;
+      q += pt.q;
+      m += pt.m;
       for (int d = 0; d < Dim; ++d) {
-        // Periodic axes: each member's nearest image to the first (lowest id) member.
-        double x = mine[q].x[d];
-        if (in.period[d] > 0.0) {
-          const double L = in.period[d];
-          x -= L * std::round((x - mine[k].x[d]) / L);
-        }
-        mx[d] += mine[q].m * x;
-        mv[d] += mine[q].m * mine[q].v[d];
+        const double shift = unwrap(pt.ref[d], head.ref[d], d) - pt.ref[d];
+        mx[d] += pt.mx[d] + pt.m * shift;
+        mv[d] += pt.mv[d];
       }
     }
-    for (int d = 0; d < Dim; ++d) f.x[d] = mx[d] / f.mass, f.v[d] = mv[d] / f.mass;
+    f.mass = fixed.value(q);
+    for (int d = 0; d < Dim; ++d) f.x[d] = mx[d] / m, f.v[d] = mv[d] / m;
     local.push_back(f);
-    k = e;
   }
 
   // The catalogue on rank 0, in order; every rank learns each fragment's place.

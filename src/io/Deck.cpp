@@ -21,6 +21,16 @@ using io::deck_detail::Names;
 using io::deck_detail::TableReader;
 namespace dd = io::deck_detail;
 
+// A typed table ({type = ..., ...}) takes "type" and the keys of its type (DeckDetail's schema).
+void allowTypedKeys(const TableReader& r, std::string_view path, const std::string& type,
+                    const std::string& noun) {
+  const Names& params = dd::typedKeys(path, type);
+  Names keys{"type"};
+  keys.insert(keys.end(), params.begin(), params.end());
+  r.allowOnly(keys, noun + " '" + type + "' takes: " +
+                        (params.empty() ? std::string("nothing else") : dd::joined(params)));
+}
+
 std::string readText(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
@@ -248,10 +258,7 @@ void DeckReader::readMaterial(const TableReader& r, MaterialConfig& m) const {
 void DeckReader::readDamage(const TableReader& r, DamageConfig& c) const {
   c.where = r.where();
   c.type = r.choice("type", dd::typeNames("material.damage"), std::nullopt);
-  const Names& params = dd::typedKeys("material.damage", c.type);
-  Names keys{"type"};
-  keys.insert(keys.end(), params.begin(), params.end());
-  r.allowOnly(keys, "damage type '" + c.type + "' takes: " + dd::joined(params));
+  allowTypedKeys(r, "material.damage", c.type, "damage type");
   const auto need = [&](std::string_view key) { return r.required(r.number(key), key); };
   if (c.type == "grady_kipp") {
     c.weibull_k = need("weibull_k");
@@ -285,11 +292,7 @@ void DeckReader::readStrength(const TableReader& r, StrengthConfig& c) const {
     r.fail("type",
            "strength type 'cap' arrives with the geomaterials work and is not available yet");
   c.type = r.choice("type", dd::typeNames("material.strength"), std::nullopt);
-  const Names& params = dd::typedKeys("material.strength", c.type);
-  Names keys{"type"};
-  keys.insert(keys.end(), params.begin(), params.end());
-  r.allowOnly(keys, "strength type '" + c.type + "' takes: " +
-                        (params.empty() ? std::string("nothing else") : dd::joined(params)));
+  allowTypedKeys(r, "material.strength", c.type, "strength type");
   const auto need = [&](std::string_view key) { return r.required(r.number(key), key); };
   if (c.type == "none") return;
   c.shear_modulus = need("shear_modulus");
@@ -326,10 +329,7 @@ void DeckReader::readStrength(const TableReader& r, StrengthConfig& c) const {
 void DeckReader::readEos(const TableReader& r, EosConfig& e) const {
   e.where = r.where();
   e.type = r.choice("type", dd::typeNames("material.eos"), std::nullopt);
-  const Names& params = dd::typedKeys("material.eos", e.type);
-  Names keys{"type"};
-  keys.insert(keys.end(), params.begin(), params.end());
-  r.allowOnly(keys, "eos type '" + e.type + "' takes: " + dd::joined(params));
+  allowTypedKeys(r, "material.eos", e.type, "eos type");
   const auto need = [&](std::string_view key) { return r.required(r.number(key), key); };
   if (e.type == "ideal_gas") {
     e.gamma = need("gamma");
@@ -459,10 +459,7 @@ void DeckReader::readShape(const TableReader& r, ShapeConfig& s) const {
     r.fail("type", "shape 'cylinder' is 3D only (use 'sphere' or 'box' in 1D and 2D" + dims);
   if (s.type == "ring" && dimension_ != 2)
     r.fail("type", "shape 'ring' is 2D only (use 'sphere' or 'box' in 1D and 3D" + dims);
-  const Names& params = dd::typedKeys("body.shape", s.type);
-  Names keys{"type"};
-  keys.insert(keys.end(), params.begin(), params.end());
-  r.allowOnly(keys, "shape '" + s.type + "' takes: " + dd::joined(params));
+  allowTypedKeys(r, "body.shape", s.type, "shape");
 
   if (s.type == "box") {
     s.min = point(r, "min");
@@ -507,10 +504,7 @@ void DeckReader::readEnergySource(const TableReader& r, EnergySourceConfig& e) c
 void DeckReader::readBoundary(const TableReader& r, BoundaryConfig& b) const {
   b.where = r.where();
   b.type = r.choice("type", dd::typeNames("boundary"), std::nullopt);
-  const Names& params = dd::typedKeys("boundary", b.type);
-  Names keys{"type"};
-  keys.insert(keys.end(), params.begin(), params.end());
-  r.allowOnly(keys, "boundary '" + b.type + "' takes: " + dd::joined(params));
+  allowTypedKeys(r, "boundary", b.type, "boundary");
   if (b.type == "rigid_wall") {
     b.point = point(r, "point");
     b.normal = point(r, "normal");

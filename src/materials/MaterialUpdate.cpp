@@ -124,27 +124,36 @@ void MaterialUpdate::updateDamaged(const Material& mat, std::int32_t id, const M
           const EosState st = eos.evaluate(f.rho[i], f.e[i]);
           const double cs = std::sqrt(st.cs * st.cs + 4.0 * G / (3.0 * f.rho[i]));
           if constexpr (std::is_same_v<D, GradyKipp>) {
-            const double eps = tensileStrain(st.p, next.S, f.rho[i] * st.cs * st.cs, G);
             const double scale = f.flawScale[i];
             // R_s: the radius of the sphere of the particle's flaw volume V = scale^-m / k.
-            const double V = std::pow(scale, -damage.m) / damage.k;
-            const double Rs = std::cbrt(3.0 * V / (4.0 * std::numbers::pi));
+            const auto Rs = [&] {
+              return std::cbrt(3.0 * (std::pow(scale, -damage.m) / damage.k) /
+                               (4.0 * std::numbers::pi));
+            };
             if (damage.tensor) {
               const TensorFlawState ts = advanceTensorFlaws(
                   {f.damageTensor[i], f.strainTensor[i], f.flawsActive[i], f.flawNext[i]}, f.L[i],
-                  dt, damage.crackSpeed * cs, Rs, f.flawCount[i], scale, damage.m, seed_, f.id[i]);
+                  dt, damage.crackSpeed * cs, Rs(), f.flawCount[i], scale, damage.m, seed_,
+                  f.id[i]);
               f.damageTensor[i] = ts.D;
               f.strainTensor[i] = ts.eps;
               f.flawsActive[i] = ts.active;
               f.flawNext[i] = ts.next;
-              f.damage[i] = largestEigenvalue<3>(ts.D);
+              f.damage[i] = ts.active > 0 ? largestEigenvalue<3>(ts.D) : 0.0;
             } else {
-              const FlawState fs = advanceFlaws({f.damage[i], f.flawsActive[i], f.flawNext[i]}, eps,
-                                                dt, damage.crackSpeed * cs, Rs, f.flawCount[i],
-                                                scale, damage.m, seed_, f.id[i]);
-              f.damage[i] = fs.D;
-              f.flawsActive[i] = fs.active;
-              f.flawNext[i] = fs.next;
+              // Gershgorin's bound first: far from the next flaw the eigenvalue is not needed.
+              const FlawState was{f.damage[i], f.flawsActive[i], f.flawNext[i]};
+              const double K = f.rho[i] * st.cs * st.cs, E = 9.0 * K * G / (3.0 * K + G);
+              const Tensor<3> sigma = next.S - st.p * Tensor<3>::Identity();
+              if (!flawsIdle(was, E > 0.0 ? largestEigenvalueBound(sigma) / E : 0.0,
+                             f.flawCount[i])) {
+                const FlawState fs =
+                    advanceFlaws(was, tensileStrain(st.p, next.S, K, G), dt, damage.crackSpeed * cs,
+                                 Rs(), f.flawCount[i], scale, damage.m, seed_, f.id[i]);
+                f.damage[i] = fs.D;
+                f.flawsActive[i] = fs.active;
+                f.flawNext[i] = fs.next;
+              }
             }
           } else {
             f.damage[i] = damage.advance(f.damage[i], next.plasticStrain - before.plasticStrain, dt,

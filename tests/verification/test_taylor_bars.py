@@ -6,9 +6,9 @@ rigid wall in any snapshot.
 Fast (default): the 42CrMo4 steel bar (Pantale et al., DynELA and Abaqus: 26.55 mm, 11.19 mm) at
 half the shipped resolution, 5 particles across the radius (~3.9k particles), on 2 ranks.
 Tolerances: length within 4%, face diameter within 8%. At this resolution the smoothing scale
-(1.5 spacings) is a third of the bar's radius, and the run measures -2.6% and -6.8%; the
+(1.5 spacings) is a third of the bar's radius, and the run measures -2.4% and -7.3%; the
 convergence study (decks/README.md, "Taylor bars") has both errors shrinking with resolution
-(-1.6% and -1.4% at the shipped one). The bound still separates the viscosity the defaults use
+(-1.5% and -1.6% at the shipped one). The bound still separates the viscosity the defaults use
 from the plain one, whose face comes out 16% narrow here.
 
 With `long`: the shipped resolution (10 across the radius, 30.8k particles, ~17 min on 2

@@ -7,17 +7,19 @@
 //
 // The search: a union-find over each rank's rows, then every component takes the smallest id it
 // reaches, ghosts carrying their owner's label, until no label changes anywhere (as many rounds as
-// a fragment crosses rank borders). The catalogue: each particle's (label, id, m, x, v) goes to
-// the rank that owns its label (a hash of it), which sums every fragment over its members in id
-// order (so the sums, and the order of fragments by mass, are the same on any rank count); the
-// fragments' totals then meet on rank 0, which orders them by mass (largest first, ties by
-// label). No rank ever holds all particles.
+// a fragment crosses rank borders). The catalogue: each rank sums its share of every fragment and
+// sends it to the rank that owns the label (a hash of it): one record per fragment and rank,
+// however large the fragment. Masses are summed exactly (FixedMass), so a fragment's mass, and
+// the order of fragments by mass (largest first, ties by label), and so each particle's place,
+// are the same on any rank count; centres of mass and velocities agree to round-off. The totals
+// meet on rank 0, which writes the catalogue. No rank ever holds all particles.
 #include "spall/core/Types.hpp"
 #include "spall/neighbors/NeighborList.hpp"
 
 #include <mpi.h>
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <span>
@@ -34,6 +36,26 @@ template <int Dim> struct FragmentInput {
   std::size_t owned = 0;                          // the first `owned` rows are this rank's
   const neighbors::NeighborList* pairs = nullptr; // of the owned rows; other indices are skipped
   std::array<double, Dim> period{};               // periodic box length per axis (0: not periodic)
+};
+
+__extension__ using Int128 = __int128; // GCC and clang
+
+// Exact, order-independent sums of masses: each mass is rounded once to a multiple of 2^-E, E
+// chosen so that the largest mass of the run (mMax) is below 2^62, and summed in 128-bit
+// integers (room for 2^64 particles). Masses below 2^-62 of the largest lose their last bits
+// identically on every rank count.
+class FixedMass {
+public:
+  explicit FixedMass(double mMax) {
+    int e = 0;
+    std::frexp(mMax > 0.0 ? mMax : 1.0, &e); // mMax < 2^e
+    E_ = 62 - e;
+  }
+  Int128 of(double m) const { return static_cast<Int128>(std::llround(std::ldexp(m, E_))); }
+  double value(Int128 q) const { return std::ldexp(static_cast<double>(q), -E_); }
+
+private:
+  int E_ = 0;
 };
 
 struct Fragment {

@@ -165,6 +165,28 @@ inline FlawState advanceFlaws(const FlawState& s, double eps, double dt, double 
   return out;
 }
 
+// Gershgorin's bound: no eigenvalue of M exceeds max_i (M_ii + sum_j!=i |M_ij|). The fast path of
+// the damage stage: most particles, most steps, are far from their next flaw and the eigenvalues
+// need not be computed.
+inline double largestEigenvalueBound(const Tensor<3>& M) {
+  double b = -std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 3; ++i) {
+    double r = M(i, i);
+    for (int j = 0; j < 3; ++j)
+      if (j != i) r += std::abs(M(i, j));
+    b = std::max(b, r);
+  }
+  return b;
+}
+
+// Whether a step at a tensile strain of at most epsBound leaves the flaw state as it is: nothing
+// to activate, and nothing to grow (no active flaw, no tension, or D at its cap).
+inline bool flawsIdle(const FlawState& s, double epsBound, std::int32_t count) {
+  if (epsBound >= s.next) return false;
+  return s.active == 0 || epsBound <= 0.0 ||
+         s.D >= static_cast<double>(s.active) / static_cast<double>(count);
+}
+
 // The local tensile strain of Benz & Asphaug: the largest principal stress of sigma = -p I + S
 // over Young's modulus E = 9 K G / (3 K + G) (K = rho c_bulk^2).
 inline double tensileStrain(double p, const Tensor<3>& S, double K, double G) {
@@ -202,6 +224,7 @@ inline TensorFlawState advanceTensorFlaws(const TensorFlawState& s, const Tensor
   const Tensor<3> Dsym = 0.5 * (L + L.transpose());
   out.eps = Q * (Q * s.eps * Q.transpose() + dt * Dsym) * Q.transpose();
   out.D = Q * (Q * s.D * Q.transpose()) * Q.transpose();
+  if (out.active == 0 && largestEigenvalueBound(out.eps) < out.next) return out; // the fast path
   const SymmetricEigen<3> e = symmetricEigen<3>(out.eps);
   while (out.active < count && e.values[2] >= out.next) {
     ++out.active;
@@ -235,6 +258,7 @@ inline TensorFlawState advanceTensorFlaws(const TensorFlawState& s, const Tensor
 inline DamagedStress degradeTensor(double p, const Tensor<3>& S, const Tensor<3>& D) {
   const Tensor<3> I = Tensor<3>::Identity();
   const Tensor<3> sigma = S - p * I;
+  if (D.isZero(0.0) || largestEigenvalueBound(sigma) <= 0.0) return {p, S}; // intact, or no tension
   const SymmetricEigen<3> e = symmetricEigen<3>(sigma);
   Tensor<3> plus = Tensor<3>::Zero();
   for (int k = 0; k < 3; ++k)
