@@ -21,16 +21,6 @@ using io::deck_detail::Names;
 using io::deck_detail::TableReader;
 namespace dd = io::deck_detail;
 
-// A typed table ({type = ..., ...}) takes "type" and the keys of its type (DeckDetail's schema).
-void allowTypedKeys(const TableReader& r, std::string_view path, const std::string& type,
-                    const std::string& noun) {
-  const Names& params = dd::typedKeys(path, type);
-  Names keys{"type"};
-  keys.insert(keys.end(), params.begin(), params.end());
-  r.allowOnly(keys, noun + " '" + type + "' takes: " +
-                        (params.empty() ? std::string("nothing else") : dd::joined(params)));
-}
-
 std::string readText(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
@@ -82,8 +72,6 @@ private:
 
   void readRun(const TableReader& r, RunConfig& run);
   void readDecomposition(const TableReader& r, DecompositionConfig& d) const;
-  void readMaterial(const TableReader& r, MaterialConfig& m) const;
-  void readEos(const TableReader& r, EosConfig& e) const;
   void readBody(const TableReader& r, const std::vector<MaterialConfig>& materials,
                 BodyConfig& b) const;
   void readShape(const TableReader& r, ShapeConfig& s) const;
@@ -92,8 +80,6 @@ private:
   void readOutput(const TableReader& r, OutputConfig& o, double endTime) const;
   void readCheckpoint(const TableReader& r, CheckpointConfig& c) const;
   void readFragments(const TableReader& r, FragmentsConfig& c, const SolverConfig& s) const;
-  void readStrength(const TableReader& r, StrengthConfig& c) const;
-  void readDamage(const TableReader& r, DamageConfig& c) const;
   void readProbe(const TableReader& r, ProbeConfig& p) const;
 
   const toml::table& root_;
@@ -126,7 +112,7 @@ void DeckReader::read(Deck& deck) {
   std::map<std::string, SourceLocation> names;
   if (entries("material", deck.materials, [&](const TableReader& r, MaterialConfig& m) {
         m.name = readName(r, "material", names);
-        readMaterial(r, m);
+        dd::readMaterial(r, m);
       }) == 0)
     throw DeckError(top.whereValue("material"), "the deck needs at least one [[material]]");
 
@@ -217,150 +203,6 @@ void DeckReader::readDecomposition(const TableReader& r, DecompositionConfig& d)
   r.check(d.imbalance_threshold >= 1.0, "imbalance_threshold", ">= 1 (a max/mean cost ratio)",
           d.imbalance_threshold);
   d.reproducible = r.boolean("reproducible").value_or(d.reproducible);
-}
-
-void DeckReader::readMaterial(const TableReader& r, MaterialConfig& m) const {
-  for (const std::string_view later : {"porosity"})
-    if (r.has(later))
-      r.fail(later,
-             "'" + std::string(later) + "' in " + r.context().human + " is not available yet");
-  r.allowOnly(*dd::schemaKeys("material"));
-  m.where = r.where();
-  m.density = r.required(r.number("density"), "density");
-  r.check(m.density > 0.0, "density", "> 0", m.density);
-  const toml::table* eos = r.subtable("eos");
-  if (!eos) r.missing("eos");
-  readEos(reader(*eos, r.context().child("eos")), m.eos);
-
-  if (const toml::table* t = r.subtable("strength")) {
-    const TableReader s = reader(*t, r.context().child("strength"));
-    readStrength(s, m.strength);
-  }
-  if (const toml::table* t = r.subtable("damage")) {
-    readDamage(reader(*t, r.context().child("damage")), m.damage);
-    const bool plastic = m.strength.type == "von_mises" || m.strength.type == "johnson_cook";
-    if (m.strength.type == "none")
-      r.fail("damage", "damage in " + r.context().human +
-                           " degrades a material's strength, and this material has none (add "
-                           "strength = {type = ...})");
-    if (m.damage.type == "johnson_cook" && !plastic)
-      r.fail("damage", "Johnson-Cook damage accumulates plastic strain; strength type '" +
-                           m.strength.type + "' has none (use von_mises or johnson_cook)");
-  } else if (r.has("damage")) {
-    r.fail("damage", "damage must be a table, e.g. {type = \"grady_kipp\", ...}");
-  }
-  m.erosion = r.choice("erosion", {"none", "no_tension", "no_shear", "zero_stress"}, "none");
-  if (r.has("erosion") && m.damage.type == "none")
-    r.fail("erosion", "erosion says what a fully damaged particle carries, and " +
-                          r.context().human + " has no damage");
-}
-
-void DeckReader::readDamage(const TableReader& r, DamageConfig& c) const {
-  c.where = r.where();
-  c.type = r.choice("type", dd::typeNames("material.damage"), std::nullopt);
-  allowTypedKeys(r, "material.damage", c.type, "damage type");
-  const auto need = [&](std::string_view key) { return r.required(r.number(key), key); };
-  if (c.type == "grady_kipp") {
-    c.weibull_k = need("weibull_k");
-    r.check(c.weibull_k > 0.0, "weibull_k", "> 0 (flaws per m^3)", c.weibull_k);
-    c.weibull_m = need("weibull_m");
-    r.check(c.weibull_m > 0.0, "weibull_m", "> 0", c.weibull_m);
-    c.crack_speed = r.number("crack_speed").value_or(c.crack_speed);
-    r.check(c.crack_speed > 0.0 && c.crack_speed <= 1.0, "crack_speed",
-            "in (0, 1] (a fraction of the longitudinal sound speed)", c.crack_speed);
-    c.mode = r.choice("mode", {"scalar", "tensor"}, "scalar");
-  } else {
-    c.D1 = need("D1");
-    c.D2 = need("D2");
-    c.D3 = need("D3");
-    c.D4 = need("D4");
-    c.D5 = need("D5");
-    c.reference_strain_rate = need("reference_strain_rate");
-    r.check(c.reference_strain_rate > 0.0, "reference_strain_rate", "> 0", c.reference_strain_rate);
-    c.room_temperature = need("room_temperature");
-    r.check(c.room_temperature > 0.0, "room_temperature", "> 0", c.room_temperature);
-    c.melt_temperature = need("melt_temperature");
-    r.check(c.melt_temperature > c.room_temperature, "melt_temperature", "> room_temperature",
-            c.melt_temperature);
-  }
-}
-
-void DeckReader::readStrength(const TableReader& r, StrengthConfig& c) const {
-  c.where = r.where();
-  const auto type = r.string("type");
-  if (type && *type == "cap")
-    r.fail("type",
-           "strength type 'cap' arrives with the geomaterials work and is not available yet");
-  c.type = r.choice("type", dd::typeNames("material.strength"), std::nullopt);
-  allowTypedKeys(r, "material.strength", c.type, "strength type");
-  const auto need = [&](std::string_view key) { return r.required(r.number(key), key); };
-  if (c.type == "none") return;
-  c.shear_modulus = need("shear_modulus");
-  r.check(c.shear_modulus > 0.0, "shear_modulus", "> 0", c.shear_modulus);
-  if (c.type == "von_mises") {
-    c.yield_stress = need("yield_stress");
-    r.check(c.yield_stress > 0.0, "yield_stress", "> 0", c.yield_stress);
-  } else if (c.type == "johnson_cook") {
-    c.A = need("A");
-    r.check(c.A > 0.0, "A", "> 0", c.A);
-    c.B = need("B");
-    r.check(c.B >= 0.0, "B", ">= 0", c.B);
-    c.n = need("n");
-    r.check(c.n > 0.0, "n", "> 0", c.n);
-    c.C = need("C");
-    r.check(c.C >= 0.0, "C", ">= 0", c.C);
-    c.m = need("m");
-    r.check(c.m > 0.0, "m", "> 0", c.m);
-    c.reference_strain_rate = need("reference_strain_rate");
-    r.check(c.reference_strain_rate > 0.0, "reference_strain_rate", "> 0", c.reference_strain_rate);
-    c.room_temperature = need("room_temperature");
-    r.check(c.room_temperature > 0.0, "room_temperature", "> 0", c.room_temperature);
-    c.melt_temperature = need("melt_temperature");
-    r.check(c.melt_temperature > c.room_temperature, "melt_temperature", "> room_temperature",
-            c.melt_temperature);
-    c.specific_heat = need("specific_heat");
-    r.check(c.specific_heat > 0.0, "specific_heat", "> 0", c.specific_heat);
-    c.taylor_quinney = need("taylor_quinney");
-    r.check(c.taylor_quinney >= 0.0 && c.taylor_quinney <= 1.0, "taylor_quinney", "in [0, 1]",
-            c.taylor_quinney);
-  }
-}
-
-void DeckReader::readEos(const TableReader& r, EosConfig& e) const {
-  e.where = r.where();
-  e.type = r.choice("type", dd::typeNames("material.eos"), std::nullopt);
-  allowTypedKeys(r, "material.eos", e.type, "eos type");
-  const auto need = [&](std::string_view key) { return r.required(r.number(key), key); };
-  if (e.type == "ideal_gas") {
-    e.gamma = need("gamma");
-    r.check(e.gamma > 1.0, "gamma", "> 1", e.gamma);
-  } else if (e.type == "linear") {
-    e.bulk_modulus = need("bulk_modulus");
-    r.check(e.bulk_modulus > 0.0, "bulk_modulus", "> 0", e.bulk_modulus);
-  } else if (e.type == "mie_gruneisen") {
-    e.c0 = need("c0");
-    r.check(e.c0 > 0.0, "c0", "> 0", e.c0);
-    e.s = need("s");
-    e.gamma0 = need("gamma0");
-  } else { // tillotson
-    e.a = need("a");
-    e.b = need("b");
-    e.A = need("A");
-    e.B = need("B");
-    e.alpha = need("alpha");
-    e.beta = need("beta");
-    e.e0 = need("e0");
-    e.e_iv = need("e_iv");
-    e.e_cv = need("e_cv");
-    r.check(e.a >= 0.0, "a", ">= 0", e.a);
-    r.check(e.b >= 0.0, "b", ">= 0", e.b);
-    r.check(e.A > 0.0, "A", "> 0", e.A);
-    r.check(e.alpha >= 0.0, "alpha", ">= 0", e.alpha);
-    r.check(e.beta >= 0.0, "beta", ">= 0", e.beta);
-    r.check(e.e0 > 0.0, "e0", "> 0", e.e0);
-    r.check(e.e_iv > 0.0, "e_iv", "> 0", e.e_iv);
-    r.check(e.e_cv > e.e_iv, "e_cv", "> e_iv (" + dd::formatNumber(e.e_iv) + ")", e.e_cv);
-  }
 }
 
 void DeckReader::readBody(const TableReader& r, const std::vector<MaterialConfig>& materials,
@@ -459,7 +301,7 @@ void DeckReader::readShape(const TableReader& r, ShapeConfig& s) const {
     r.fail("type", "shape 'cylinder' is 3D only (use 'sphere' or 'box' in 1D and 2D" + dims);
   if (s.type == "ring" && dimension_ != 2)
     r.fail("type", "shape 'ring' is 2D only (use 'sphere' or 'box' in 1D and 3D" + dims);
-  allowTypedKeys(r, "body.shape", s.type, "shape");
+  dd::allowTypedKeys(r, "body.shape", s.type, "shape");
 
   if (s.type == "box") {
     s.min = point(r, "min");
@@ -504,7 +346,7 @@ void DeckReader::readEnergySource(const TableReader& r, EnergySourceConfig& e) c
 void DeckReader::readBoundary(const TableReader& r, BoundaryConfig& b) const {
   b.where = r.where();
   b.type = r.choice("type", dd::typeNames("boundary"), std::nullopt);
-  allowTypedKeys(r, "boundary", b.type, "boundary");
+  dd::allowTypedKeys(r, "boundary", b.type, "boundary");
   if (b.type == "rigid_wall") {
     b.point = point(r, "point");
     b.normal = point(r, "normal");

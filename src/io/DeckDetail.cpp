@@ -442,4 +442,13 @@ std::string TableReader::choice(std::string_view key, const Names& allowed,
   return *s;
 }
 
+void allowTypedKeys(const TableReader& r, std::string_view path, const std::string& type,
+                    const std::string& noun) {
+  const Names& params = typedKeys(path, type);
+  Names keys{"type"};
+  keys.insert(keys.end(), params.begin(), params.end());
+  r.allowOnly(keys, noun + " '" + type + "' takes: " +
+                        (params.empty() ? std::string("nothing else") : joined(params)));
+}
+
 } // namespace spall::io::deck_detail

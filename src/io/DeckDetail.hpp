@@ -2,6 +2,7 @@
 // Private to the deck reader (Deck.cpp, DeckOverrides.cpp, DeckDetail.cpp): positions of nodes,
 // typed access that reports FILE:LINE:COLUMN, the schema of known keys, did-you-mean suggestions.
 #include "spall/core/Error.hpp"
+#include "spall/io/Deck.hpp"
 #include "spall/solvers/Config.hpp"
 
 #include <toml++/toml.h>
@@ -113,5 +114,11 @@ private:
 
 // The [solver] table (DeckSolver.cpp).
 void readSolver(const TableReader& r, SolverConfig& s);
+// One [[material]] table (DeckMaterial.cpp).
+void readMaterial(const TableReader& r, MaterialConfig& m);
+
+// A typed table ({type = ..., ...}) takes "type" and the keys of its type (schema above).
+void allowTypedKeys(const TableReader& r, std::string_view path, const std::string& type,
+                    const std::string& noun);
 
 } // namespace spall::io::deck_detail

@@ -23,9 +23,8 @@ bool MaterialUpdate::anyFlaws() const {
 }
 
 bool MaterialUpdate::anyTensorDamage() const {
-  return std::any_of(materials_.begin(), materials_.end(), [](const Material& m) {
-    return m.scalesWithDamage() && std::get<GradyKipp>(*m.damage).tensor;
-  });
+  return std::any_of(materials_.begin(), materials_.end(),
+                     [](const Material& m) { return m.tensorDamage(); });
 }
 
 // One visit per material, then a plain loop over its particles: no dispatch per particle. A
@@ -37,7 +36,7 @@ void MaterialUpdate::evaluate(const MaterialFields& f) const {
     const double G = shearModulusOf(mat);
     const auto id = static_cast<std::int32_t>(k);
     const bool damage = mat.damage.has_value(), scales = mat.scalesWithDamage();
-    const bool tensorMode = scales && std::get<GradyKipp>(*mat.damage).tensor;
+    const bool tensorMode = mat.tensorDamage();
     std::visit(
         [&](const auto& eos) {
           for (std::size_t i = 0; i < n; ++i) {
@@ -50,8 +49,7 @@ void MaterialUpdate::evaluate(const MaterialFields& f) const {
               f.p[i] = c.p;
               f.S[i] = c.S;
             } else {
-              f.p[i] = damage ? degrade(r.p, Tensor<3>::Zero(), f.damage[i], scales, mat.erosion).p
-                              : r.p;
+              f.p[i] = damage ? degradedPressure(r.p, f.damage[i], scales, mat.erosion) : r.p;
             }
           }
         },
@@ -110,7 +108,7 @@ void MaterialUpdate::updateDamaged(const Material& mat, std::int32_t id, const M
   const std::size_t n = f.rho.size();
   const bool scales = mat.scalesWithDamage();
   const bool freezeFailed = mat.erosion == Erosion::ZeroStress;
-  const bool tensorMode = scales && std::get<GradyKipp>(*mat.damage).tensor;
+  const bool tensorMode = mat.tensorDamage();
   std::visit(
       [&](const auto& eos, const auto& strength, const auto& damage) {
         using D = std::decay_t<decltype(damage)>;

@@ -277,30 +277,20 @@ inline DamagedStress degradeTensor(double p, const Tensor<3>& S, const Tensor<3>
 
 // Grady-Kipp: (1 - D) of a tension and of the deviator (Benz & Asphaug 1994); Johnson-Cook: the
 // intact stress until failure. Then, for a fully damaged particle, the erosion option.
+// The pressure alone (the EOS refresh, which leaves the deviator as the step left it).
+inline double degradedPressure(double p, double D, bool scalesWithDamage, Erosion erosion) {
+  if (scalesWithDamage && p < 0.0) p *= 1.0 - D;
+  if (D < 1.0) return p;
+  if (erosion == Erosion::NoTension) return std::max(p, 0.0); // Eq. 6.11
+  if (erosion == Erosion::ZeroStress) return 0.0;             // Eq. 6.13
+  return p;                                                   // none, no_shear (Eq. 6.12)
+}
+
 inline DamagedStress degrade(double p, const Tensor<3>& S, double D, bool scalesWithDamage,
                              Erosion erosion) {
-  DamagedStress out{p, S};
-  if (scalesWithDamage) {
-    const double f = 1.0 - D;
-    if (p < 0.0) out.p = f * p;
-    out.S = f * S;
-  }
-  if (D < 1.0) return out;
-  switch (erosion) {
-  case Erosion::None:
-    break;
-  case Erosion::NoTension: // Eq. 6.11: hydrostatic under compression, nothing under tension
-    out.p = std::max(out.p, 0.0);
-    out.S.setZero();
-    break;
-  case Erosion::NoShear: // Eq. 6.12
-    out.S.setZero();
-    break;
-  case Erosion::ZeroStress: // Eq. 6.13
-    out.p = 0.0;
-    out.S.setZero();
-    break;
-  }
+  DamagedStress out{degradedPressure(p, D, scalesWithDamage, erosion), S};
+  if (scalesWithDamage) out.S = (1.0 - D) * S;
+  if (D >= 1.0 && erosion != Erosion::None) out.S.setZero(); // Eqs. 6.11-6.13: no deviator
   return out;
 }
 

@@ -26,6 +26,7 @@ struct Material {
   Erosion erosion = Erosion::None;
 
   bool scalesWithDamage() const { return damage && std::holds_alternative<GradyKipp>(*damage); }
+  bool tensorDamage() const { return scalesWithDamage() && std::get<GradyKipp>(*damage).tensor; }
   // A fully damaged particle of this material carries no tension (the damaged-pair rule).
   bool failedCarriesNoTension() const {
     return damage && !failedCarriesTension(scalesWithDamage(), erosion);
