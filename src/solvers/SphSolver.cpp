@@ -3,6 +3,7 @@
 #include "spall/core/SymmetricEigen.hpp"
 #include "spall/kernels/Kernels.hpp"
 #include "spall/kernels/PsiTable.hpp"
+#include "spall/solvers/CrackedPairs.hpp"
 #include "spall/solvers/IdealH.hpp"
 #include "spall/solvers/SphPairTerms.hpp"
 
@@ -73,9 +74,15 @@ public:
   // Randles & Libersky (1996): M_i = -sum_j V_j x_ij (x) grad_i W_ij is I for a full, even
   // neighborhood; B_i = M_i^-T makes B_i grad W exact for linear fields whatever the neighbors,
   // free surfaces included. A particle with neighbors on too few sides to invert M (|det M| <
-  // 0.01: a lone particle, a chain) keeps the plain gradient (B = I).
+  // 0.01: a lone particle, a chain) keeps the plain gradient (B = I), and so does a particle at a
+  // crack (a failed particle or a neighbor of one; so both rows of a cracked pair): the field it
+  // would fit is not linear across an open crack, the cracked pairs it would be normalised over
+  // are left out of its velocity gradient, and a failed particle whose neighbors have flown off
+  // has an ill-conditioned M (the damaged stretching rod launched one at km/s by B times its
+  // contact pressure).
   void computeKernelCorrection(const neighbors::NeighborList& nl) override {
     if (!f_.B.valid()) return;
+    const bool cracks = markCracks();
     const auto x = s_[f_.x];
     const auto h = s_[f_.h];
     const auto m = s_[f_.m];
@@ -86,7 +93,9 @@ public:
     for (std::size_t i = 0; i < s_.localCount(); ++i) {
       const double hiInv = 1.0 / h[i], gradNormI = sigma * ipow<Dim>(hiInv) * hiInv;
       Tensor<Dim> M = Tensor<Dim>::Zero();
+      bool atCrack = cracks && cracks_.failed(i);
       for (std::uint32_t j : nl.of(i)) {
+        if (cracks) atCrack = atCrack || cracks_.failed(j);
         const Vec<Dim> xij = x[i] - x[j];
         const double r = xij.norm();
         if (r == 0.0) continue;
@@ -103,7 +112,7 @@ public:
         M.noalias() -= (m[j] / rho[j]) * (xij * gradW.transpose());
       }
       B[i].setIdentity();
-      if (std::abs(M.determinant()) > 1.0e-2)
+      if (!atCrack && std::abs(M.determinant()) > 1.0e-2)
         B[i].template topLeftCorner<Dim, Dim>() = M.inverse().transpose();
     }
   }
@@ -265,11 +274,19 @@ private:
                         balsara ? pair::balsaraFactor(divv[j], curlv[j], cs[j], h[j]) : 1.0};
     }
 
-    // Damaged pairs: a pair with a particle that failed (damage 1) and can carry no tension
-    // transmits compression only, as across a contact: an intact neighbor cannot pull on it, and
-    // it pulls on nothing (the crack is open). Without it, the intact side's tension would still
-    // reach across the failed layer through the pair's other half.
-    const bool damagedPairs = Solid && markFailedRows();
+    // Damaged pairs (solvers/CrackedPairs.hpp): a pair with a particle that failed (damage 1) and
+    // can carry no tension, or with one between them, transmits compression only, as across a
+    // contact: an intact neighbor cannot pull on it, and it pulls on nothing (the crack is open).
+    // Without it, the intact side's tension would still reach across the failed layer through
+    // the pair's other half.
+    const bool damagedPairs = Solid && markCracks();
+    if (damagedPairs) cracks_.collect(nl, n);
+    [[maybe_unused]] const auto interacts = [&](std::size_t a, std::size_t b) {
+      if constexpr (Aniso)
+        return reaches<Dim>(x[a] - x[b], anisoRow_[a].G, anisoRow_[b].G, K::support);
+      else
+        return reaches<Dim>(x[a] - x[b], std::max(h[a], h[b]), K::support);
+    };
 
     for (std::size_t i = 0; i < n; ++i) {
       const Vec<Dim> xi = x[i], vi = v[i];
@@ -370,8 +387,9 @@ private:
         const double rhoj = rho[j];
         // Frictionless contact between bodies (contact groups): across a group boundary only
         // compression is transmitted (no tension, no shear), so bodies can slide and separate.
-        const bool across =
-            (frictionless && body[j] != bodyi) || (damagedPairs && (failed_[i] | failed_[j]) != 0);
+        const bool cracked =
+            damagedPairs && cracks_.cracked(i, j, std::span<const Vec<Dim>>(x), interacts);
+        const bool across = (frictionless && body[j] != bodyi) || cracked;
         double qOwn = qI, qOther = rj.q;
         if (across) {
           const double pOwn = std::max(p[i], 0.0), pOther = std::max(p[j], 0.0);
@@ -441,11 +459,15 @@ private:
         else
           dei += mj * (own + 0.5 * Pij) * vgrad;
         const double volj = rj.vol;
-        if constexpr (Corrected) {
-          // -div v_i = trace of the corrected gradient (L_i below): exact for a linear field.
-          drhoi += volj * vij.dot(gI);
-        } else {
-          drhoi += volj * vij.dot(gradWi);
+        // An open crack is not the material's expansion: a cracked pair is left out of the
+        // divergence, as out of the velocity gradient.
+        if (!cracked) {
+          if constexpr (Corrected) {
+            // -div v_i = trace of the corrected gradient (L_i below): exact for a linear field.
+            drhoi += volj * vij.dot(gI);
+          } else {
+            drhoi += volj * vij.dot(gradWi);
+          }
         }
         if (balsara) {
           divi -= volj * vgrad;
@@ -507,7 +529,7 @@ private:
   SolverConfig cfg_;
   std::vector<bool> solid_;           // by material: has strength
   std::vector<bool> failedNoTension_; // by material: a failed particle carries no tension
-  std::vector<std::uint8_t> failed_;  // of every row: failed and carrying no tension
+  CrackedPairs<Dim> cracks_;          // the failed rows and their neighbors
   struct RowScratch {
     double hInv, gradNorm, vol;
     double q, s;    // the pressure term's per-row factors (see ratesLoop)
@@ -518,18 +540,10 @@ private:
   std::vector<Tensor<Dim>> artificialStress_; // R of every row (solids, when enabled)
   std::vector<Tensor<Dim>> strainRate_;       // sym L of every row (reconstructed viscosity)
   std::vector<double> isochoric_;             // pair::isochoricGate of every row
-  // failed_ of every row (ghosts included); whether any row failed at all.
-  bool markFailedRows() {
+  // Marks the failed rows (ghosts included); whether any row failed at all.
+  bool markCracks() {
     if (failedNoTension_.empty() || !f_.hasDamage()) return false;
-    const auto D = s_[f_.damage];
-    const auto mat = s_[f_.material];
-    failed_.resize(s_.size());
-    bool any = false;
-    for (std::size_t j = 0; j < s_.size(); ++j) {
-      failed_[j] = D[j] >= 1.0 && failedNoTension_[static_cast<std::size_t>(mat[j])];
-      any = any || failed_[j] != 0;
-    }
-    return any;
+    return cracks_.mark(s_[f_.damage], s_[f_.material], failedNoTension_);
   }
   // Out of line: the pair loop is register-bound, and only approaching pairs call it.
   [[gnu::noinline]] double reconstructedApproach(double vr, const Vec<Dim>& xij, std::size_t i,

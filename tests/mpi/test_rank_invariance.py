@@ -72,7 +72,10 @@ CASES = [("sod_1d.toml", []), ("rod_impact_copper.toml", ["run.end_time=6e-6"]),
          # 2D damage and fragments: `fragment` (friends of friends across ranks) bit for bit
          ("rock_impact_2d.toml", ["run.end_time=4e-6"]),
          # Owen's tensor damage: the damage and strain tensors, eigen-decompositions per particle
-         ("rock_impact_2d.toml", ["run.end_time=3e-6", 'material.basalt.damage.mode="tensor"'])]
+         ("rock_impact_2d.toml", ["run.end_time=3e-6", 'material.basalt.damage.mode="tensor"']),
+         # ASPH with tensor damage mid-failure: cracked pairs (a failed particle between two
+         # intact ones) decided alike whichever rank owns the three
+         ("stretching_rod_damage_2d.toml", ["run.end_time=4e-5"])]
 
 with tempfile.TemporaryDirectory() as tmp:
     tmp = Path(tmp)

@@ -8,7 +8,7 @@ amplitude. The damage there: the damage-weighted centroid of the target, in init
 at the first output (every 10 ns, a twentieth of the 0.2 us the pulse takes to cross a flyer)
 in which a target particle has failed, must lie within one smoothing length (1.5 spacings) of
 x0. The shipped deck, a thinner flyer (x0 = 4.5 mm) and a faster one (80 m/s, just above the
-HEL): measured offsets +6.5, -10 and -3.5 um against h = 18.75 um. (At twice the spacing the
+HEL): measured offsets +6.5, -8.6 and -1.1 um against h = 18.75 um. (At twice the spacing the
 offsets grow to 40-58 um, 1.1-1.5 h: the centroid converges, and the deck ships at the spacing
 where it is within h.) Also: the scab (the target beyond the failed band) flies off at the
 flyer's speed within 5% (it carries the trapped front half of the pulse; measured 2.2-2.6% slow).

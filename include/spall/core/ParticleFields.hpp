@@ -121,7 +121,7 @@ template <int Dim> struct ParticleFields {
   // The groups a configuration needs, in the order the modules register them (tests and tools
   // that build a store by hand).
   struct Groups {
-    bool balsara = false, strength = false, corrected = false, asph = false;
+    bool balsara = false, strength = false, corrected = false, asph = false, damage = false;
   };
   void registerIn(ParticleStore& s, Groups g) {
     registerCommon(s);
@@ -129,6 +129,7 @@ template <int Dim> struct ParticleFields {
     if (g.strength) registerStrength(s);
     if (g.corrected) registerKernelCorrection(s);
     if (g.asph) registerSmoothingTensor(s);
+    if (g.damage) registerDamage(s, false);
   }
 };
 

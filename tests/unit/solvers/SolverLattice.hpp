@@ -20,11 +20,14 @@ struct SolverLattice {
   std::unique_ptr<solvers::Solver<2>> solver;
 
   // The lattice at rest (or moving with v = G x), with the fields the configuration needs.
-  SolverLattice(int n, const SolverConfig& cfg, bool solid, const Tensor<2>& G = Tensor<2>::Zero())
-      : cfg_(cfg), solid_(solid) {
+  // damage: the solid's failed particles (damage 1) carry no tension (the damaged-pair rule).
+  SolverLattice(int n, const SolverConfig& cfg, bool solid, const Tensor<2>& G = Tensor<2>::Zero(),
+                bool damage = false)
+      : cfg_(cfg), solid_(solid), damage_(damage) {
     f.registerIn(store, {.strength = solid,
                          .corrected = solid && cfg.velocity_gradient == VelocityGradient::Corrected,
-                         .asph = cfg.method == "asph"});
+                         .asph = cfg.method == "asph",
+                         .damage = damage});
     store.resizeLocal(static_cast<std::size_t>(n * n));
     for (int a = 0; a < n; ++a)
       for (int b = 0; b < n; ++b) {
@@ -37,6 +40,8 @@ struct SolverLattice {
         store[f.rho][i] = rho0;
         store[f.h][i] = 1.5 * dp;
         store[f.cs][i] = 10.0;
+        // Eigen's default constructor leaves a tensor uninitialised.
+        if (solid) store[f.S][i].setZero(), store[f.L][i].setZero();
       }
   }
 
@@ -65,7 +70,8 @@ struct SolverLattice {
   void evaluate() {
     materials::Material water{materials::LinearEos{1.0e9}, std::nullopt};
     if (solid_) water.strength = materials::Strength{materials::Elastic{1.0e8}};
-    solver = solvers::makeSolver<2>({cfg_, {solid_}}, store, f);
+    solver = solvers::makeSolver<2>(
+        {cfg_, {solid_}, damage_ ? std::vector<bool>{true} : std::vector<bool>{}}, store, f);
     if (f.anisotropic()) {
       for (std::size_t i = 0; i < store.localCount(); ++i)
         store[f.H][i] = Tensor<2>::Identity() / store[f.h][i];
@@ -90,9 +96,28 @@ struct SolverLattice {
     solver->computeRates(nl);
   }
 
+  // What the rates do to the totals: sum m a (zero if momentum is conserved), sum m (v.a + de/dt)
+  // (zero if total energy is), and the largest single contributions to each, for tolerances.
+  struct Totals {
+    Vec<2> momentum = Vec<2>::Zero();
+    double power = 0.0, scaleP = 0.0, scaleE = 0.0;
+  };
+  Totals totals() const {
+    Totals t;
+    for (std::size_t i = 0; i < store.localCount(); ++i) {
+      const double m = store[f.m][i];
+      const Vec<2> a = store[f.a][i], v = store[f.v][i];
+      t.momentum += m * a;
+      t.power += m * (v.dot(a) + store[f.dedt][i]);
+      t.scaleP = std::max(t.scaleP, m * a.norm());
+      t.scaleE = std::max(t.scaleE, m * std::abs(store[f.dedt][i]));
+    }
+    return t;
+  }
+
 private:
   SolverConfig cfg_;
-  bool solid_;
+  bool solid_, damage_;
 };
 
 } // namespace spall::fixtures
