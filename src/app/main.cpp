@@ -1,5 +1,6 @@
 // spall: the command line (INTERFACE.md). Exit codes: 0 finished, 1 the run failed, 2 usage or
 // deck error (nothing run, nothing written).
+#include "spall/app/Element.hpp"
 #include "spall/app/Run.hpp"
 #include "spall/app/SystemInfo.hpp"
 #include "spall/core/Error.hpp"
@@ -47,9 +48,26 @@ int main(int argc, char** argv) {
   auto* infoCmd =
       cli.add_subcommand("info", "version, git revision, compiler, MPI, HDF5, METIS, features");
 
-  auto* elementCmd =
-      cli.add_subcommand("element", "single-element constitutive driver (not available yet)");
-  elementCmd->allow_extras();
+  spall::app::ElementOptions element;
+  auto* elementCmd = cli.add_subcommand(
+      "element", "drive one material point through an F-table (single-element driver)");
+  elementCmd->add_option("deck", element.deckPath, "deck file (TOML) with the material")
+      ->required();
+  elementCmd->add_option("--material", element.material, "the deck material to drive")->required();
+  elementCmd->add_option("--table", element.table, "the F-table (t F11 ... F33 [theta ax ay az])")
+      ->required();
+  elementCmd->add_option("--output", element.output, "the CSV to write")->required();
+  elementCmd->add_option("--set", element.overrides, "override a deck value: KEY=VALUE");
+  elementCmd->add_option("--substeps", element.substeps,
+                         "steps between two rows of the table (default 100)");
+  elementCmd->add_option("--kinematics", element.kinematics,
+                         "velocity gradient from F: run (Austin Eq. 4.10, replays a run; default) "
+                         "or midpoint (Eq. 4.8, exact under superimposed rotation)");
+  elementCmd->add_flag("--every-substep", element.everySubstep,
+                       "a CSV row per substep (default: one per table row)");
+  elementCmd->add_option("--flaw-volume", element.flawVolume,
+                         "volume (m^3) a Grady-Kipp material's flaws are drawn for (default 1e-9)");
+  elementCmd->add_flag("--overwrite", element.overwrite, "replace an existing CSV");
   auto* historyCmd =
       cli.add_subcommand("history", "a particle's deformation history (not available yet)");
   historyCmd->allow_extras();
@@ -71,7 +89,12 @@ int main(int argc, char** argv) {
       if (mpi.root()) fmt::print("{}", spall::app::infoText());
       return 0;
     }
-    if (*elementCmd || *historyCmd)
+    if (*elementCmd) {
+      if (mpi.size() > 1) throw spall::UsageError("spall element runs on one rank");
+      spall::app::runElement(element);
+      return 0;
+    }
+    if (*historyCmd)
       return fail(
           mpi, 2,
           "error: this command arrives with the geomaterials work and is not available yet");

@@ -1,0 +1,158 @@
+#include "spall/app/Element.hpp"
+
+#include "spall/app/Setup.hpp"
+#include "spall/core/Error.hpp"
+#include "spall/io/Deck.hpp"
+#include "spall/io/FTable.hpp"
+#include "spall/materials/MaterialUpdate.hpp"
+
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
+#include <filesystem>
+#include <fmt/format.h>
+#include <fmt/os.h>
+
+namespace spall::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// F of the table at the fraction s in [0, 1] of the interval from row r to r + 1, with the
+// superimposed rotation applied: R(s) F(s), both interpolated linearly (the rotation by its angle
+// about the interpolated axis).
+Tensor<3> totalF(const io::FTable& table, std::size_t r, double s) {
+  const io::FTableRow &a = table.rows[r], &b = table.rows[r + 1];
+  const Tensor<3> F = (1.0 - s) * a.F + s * b.F;
+  if (!table.rotation) return F;
+  Vec<3> axis = (1.0 - s) * a.axis + s * b.axis;
+  axis = axis.norm() > 0.0 ? axis.normalized() : a.axis; // opposite axes: keep the row's
+  const double theta = ((1.0 - s) * a.thetaDeg + s * b.thetaDeg) * (M_PI / 180.0);
+  return Eigen::AngleAxisd(theta, axis).toRotationMatrix() * F;
+}
+
+// The rotation of F's polar decomposition F = R U.
+Tensor<3> polarRotation(const Tensor<3>& F) {
+  const Eigen::JacobiSVD<Tensor<3>> svd(F, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  return svd.matrixU() * svd.matrixV().transpose();
+}
+
+// Voigt order of the stress columns: xx yy zz xy yz xz.
+constexpr int kVoigt[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {1, 2}, {0, 2}};
+
+} // namespace
+
+void runElement(const ElementOptions& o) {
+  if (o.substeps < 1) throw UsageError("--substeps must be at least 1");
+  if (!(o.flawVolume > 0.0)) throw UsageError("--flaw-volume must be positive");
+  if (o.kinematics != "run" && o.kinematics != "midpoint")
+    throw UsageError("--kinematics is run or midpoint, got '" + o.kinematics + "'");
+  const bool midpoint = o.kinematics == "midpoint";
+  const Deck deck = loadDeck(o.deckPath, o.overrides);
+  std::size_t k = deck.materials.size();
+  std::string names;
+  for (std::size_t m = 0; m < deck.materials.size(); ++m) {
+    if (deck.materials[m].name == o.material) k = m;
+    names += (names.empty() ? "" : ", ") + deck.materials[m].name;
+  }
+  if (k == deck.materials.size())
+    throw UsageError(
+        fmt::format("no material '{}' in {} (it has: {})", o.material, o.deckPath, names));
+  const io::FTable table = io::readFTable(o.table);
+  if (fs::exists(o.output) && !o.overwrite)
+    throw UsageError(o.output + " exists; --overwrite replaces it");
+  const fs::path parent = fs::path(o.output).parent_path();
+  if (!parent.empty() && !fs::is_directory(parent))
+    throw UsageError("the directory of " + o.output + " does not exist");
+
+  const MaterialConfig& cfg = deck.materials[k];
+  const materials::Material mat = buildMaterials(deck)[k];
+  const materials::MaterialUpdate update({mat}, deck.run.seed);
+  const bool strength = mat.strength.has_value(), damage = mat.damage.has_value();
+  const bool flaws = mat.scalesWithDamage(), tensor = mat.tensorDamage();
+
+  // The particle: every field the material update reads or writes, one row each. It starts
+  // unstressed at the table's first F (density rho0 / det F), with no internal energy.
+  const double rho0 = cfg.density;
+  std::vector<double> rho{rho0 / totalF(table, 0, 0.0).determinant()}, e{0.0}, p{0.0}, cs{0.0};
+  std::vector<double> plastic{0.0},
+      temperature{cfg.strength.type == "johnson_cook" ? cfg.strength.room_temperature : 0.0};
+  std::vector<double> D{0.0}, flawScale{0.0}, flawNext{0.0};
+  std::vector<std::int32_t> material{0}, flawCount{0}, flawsActive{0};
+  std::vector<Tensor<3>> L{Tensor<3>::Zero()}, S{Tensor<3>::Zero()}, Sintact{Tensor<3>::Zero()};
+  std::vector<Tensor<3>> damageTensor{Tensor<3>::Zero()}, strainTensor{Tensor<3>::Zero()};
+  std::vector<ParticleId> id{0};
+  if (flaws) {
+    const auto set = materials::drawFlaws(std::get<materials::GradyKipp>(*mat.damage),
+                                          deck.run.seed, 0, o.flawVolume, 1);
+    flawCount[0] = set.count, flawScale[0] = set.scale, flawNext[0] = set.first;
+  }
+  materials::MaterialFields f{rho, e, material, p, cs, L, S, plastic, temperature};
+  if (damage) f.id = id, f.damage = D, f.Sintact = Sintact;
+  if (flaws)
+    f.flawCount = flawCount, f.flawsActive = flawsActive, f.flawScale = flawScale,
+    f.flawNext = flawNext;
+  if (tensor) f.damageTensor = damageTensor, f.strainTensor = strainTensor;
+  update.evaluate(f);
+
+  // Written to a side file and renamed when complete: a failed drive leaves no partial CSV.
+  const std::string partial = o.output + ".part";
+  {
+    auto out = fmt::output_file(partial);
+    std::string header = "t";
+    for (int a = 1; a <= 3; ++a)
+      for (int b = 1; b <= 3; ++b) header += fmt::format(",F{}{}", a, b);
+    for (const char* c : {"sxx", "syy", "szz", "sxy", "syz", "sxz"})
+      header += fmt::format(",{}", c);
+    for (const char* c : {"usxx", "usyy", "uszz", "usxy", "usyz", "usxz"})
+      header += fmt::format(",{}", c);
+    header += ",density,specific_internal_energy,pressure,sound_speed";
+    if (strength) header += ",plastic_strain,temperature";
+    if (damage) header += ",damage";
+    out.print("{}\n", header);
+    const auto row = [&](double t, const Tensor<3>& F) {
+      const Tensor<3> sigma = S[0] - p[0] * Tensor<3>::Identity();
+      const Tensor<3> R = polarRotation(F);
+      const Tensor<3> unrotated = R.transpose() * sigma * R;
+      std::string line = fmt::format("{:.17g}", t);
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) line += fmt::format(",{:.17g}", F(a, b));
+      for (const auto& ij : kVoigt) line += fmt::format(",{:.17g}", sigma(ij[0], ij[1]));
+      for (const auto& ij : kVoigt) line += fmt::format(",{:.17g}", unrotated(ij[0], ij[1]));
+      line += fmt::format(",{:.17g},{:.17g},{:.17g},{:.17g}", rho[0], e[0], p[0], cs[0]);
+      if (strength) line += fmt::format(",{:.17g},{:.17g}", plastic[0], temperature[0]);
+      if (damage) line += fmt::format(",{:.17g}", D[0]);
+      out.print("{}\n", line);
+    };
+    row(table.rows[0].t, totalF(table, 0, 0.0));
+    for (std::size_t r = 0; r + 1 < table.rows.size(); ++r) {
+      const double t0 = table.rows[r].t, span = table.rows[r + 1].t - t0;
+      const double dt = span / o.substeps;
+      Tensor<3> Fa = totalF(table, r, 0.0);
+      for (int s = 1; s <= o.substeps; ++s) {
+        const Tensor<3> Fb = totalF(table, r, static_cast<double>(s) / o.substeps);
+        // Austin (2013), Eq. 4.10 (the velocity gradient that takes F_n to F_n+1 over dt as a
+        // run does) or Eq. 4.8 (midpoint).
+        L[0] = midpoint ? Tensor<3>((Fb - Fa) / dt * (0.5 * (Fb + Fa)).inverse())
+                        : Tensor<3>((Fb * Fa.inverse() - Tensor<3>::Identity()) / dt);
+        // The stress power heats the material (with the stress of the step's start, as a run's
+        // explicit energy update); the density follows F exactly.
+        const Tensor<3> sigma = S[0] - p[0] * Tensor<3>::Identity();
+        const Tensor<3> Dsym = 0.5 * (L[0] + L[0].transpose());
+        e[0] += dt * (sigma.cwiseProduct(Dsym)).sum() / rho[0];
+        rho[0] = rho0 / Fb.determinant();
+        update.update(f, dt);
+        const double t = t0 + span * s / o.substeps;
+        if (!S[0].allFinite() || !std::isfinite(p[0]) || !std::isfinite(e[0]))
+          throw RunError(fmt::format("element: non-finite stress at t = {:.9g} (between the "
+                                     "rows on lines {} and {} of {})",
+                                     t, table.rows[r].line, table.rows[r + 1].line, o.table));
+        if (o.everySubstep || s == o.substeps) row(s == o.substeps ? table.rows[r + 1].t : t, Fb);
+        Fa = Fb;
+      }
+    }
+  }
+  fs::rename(partial, o.output);
+}
+
+} // namespace spall::app
