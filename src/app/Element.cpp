@@ -8,9 +8,12 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
+#include <algorithm>
 #include <filesystem>
 #include <fmt/format.h>
 #include <fmt/os.h>
+#include <fstream>
+#include <sstream>
 
 namespace spall::app {
 
@@ -37,6 +40,44 @@ Tensor<3> polarRotation(const Tensor<3>& F) {
   return svd.matrixU() * svd.matrixV().transpose();
 }
 
+// The density and energy columns of a recorded state, one pair a table row.
+std::vector<std::pair<double, double>> readState(const std::string& path, const io::FTable& table) {
+  std::ifstream in(path);
+  if (!in) throw UsageError("cannot read the state " + path);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  for (std::size_t a = 0, b; a <= line.size(); a = b + 1) {
+    b = line.find(',', a);
+    if (b == std::string::npos) b = line.size();
+    names.push_back(line.substr(a, b - a));
+  }
+  const auto column = [&](const std::string& name) {
+    const auto it = std::find(names.begin(), names.end(), name);
+    if (it == names.end()) throw DeckError({path, 1, 0}, "no column '" + name + "'");
+    return static_cast<std::size_t>(it - names.begin());
+  };
+  const std::size_t ct = column("t"), crho = column("density"),
+                    ce = column("specific_internal_energy");
+  std::vector<std::pair<double, double>> out;
+  int lineNo = 1;
+  while (std::getline(in, line)) {
+    ++lineNo;
+    std::vector<double> v;
+    std::istringstream cells(line);
+    for (std::string cell; std::getline(cells, cell, ',');)
+      v.push_back(std::strtod(cell.c_str(), nullptr));
+    const std::size_t k = out.size();
+    if (v.size() != names.size() || k >= table.rows.size() || v[ct] != table.rows[k].t)
+      throw DeckError({path, lineNo, 0}, "the state's rows must be the F-table's, time for time");
+    out.emplace_back(v[crho], v[ce]);
+  }
+  if (out.size() != table.rows.size())
+    throw DeckError({path, lineNo, 0}, fmt::format("the state has {} rows, the F-table {}",
+                                                   out.size(), table.rows.size()));
+  return out;
+}
+
 // Voigt order of the stress columns: xx yy zz xy yz xz.
 constexpr int kVoigt[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {1, 2}, {0, 2}};
 
@@ -48,6 +89,8 @@ void runElement(const ElementOptions& o) {
   if (o.kinematics != "run" && o.kinematics != "midpoint")
     throw UsageError("--kinematics is run or midpoint, got '" + o.kinematics + "'");
   const bool midpoint = o.kinematics == "midpoint";
+  if (!o.state.empty() && o.substeps != 1)
+    throw UsageError("--state replays a recorded particle row by row: --substeps 1");
   const Deck deck = loadDeck(o.deckPath, o.overrides);
   std::size_t k = deck.materials.size();
   std::string names;
@@ -59,6 +102,8 @@ void runElement(const ElementOptions& o) {
     throw UsageError(
         fmt::format("no material '{}' in {} (it has: {})", o.material, o.deckPath, names));
   const io::FTable table = io::readFTable(o.table);
+  const auto recorded =
+      o.state.empty() ? std::vector<std::pair<double, double>>{} : readState(o.state, table);
   if (fs::exists(o.output) && !o.overwrite)
     throw UsageError(o.output + " exists; --overwrite replaces it");
   const fs::path parent = fs::path(o.output).parent_path();
@@ -75,6 +120,7 @@ void runElement(const ElementOptions& o) {
   // unstressed at the table's first F (density rho0 / det F), with no internal energy.
   const double rho0 = cfg.density;
   std::vector<double> rho{rho0 / totalF(table, 0, 0.0).determinant()}, e{0.0}, p{0.0}, cs{0.0};
+  if (!recorded.empty()) rho[0] = recorded[0].first, e[0] = recorded[0].second;
   std::vector<double> plastic{0.0},
       temperature{cfg.strength.type == "johnson_cook" ? cfg.strength.room_temperature : 0.0};
   std::vector<double> D{0.0}, flawScale{0.0}, flawNext{0.0};
@@ -141,6 +187,7 @@ void runElement(const ElementOptions& o) {
         const Tensor<3> Dsym = 0.5 * (L[0] + L[0].transpose());
         e[0] += dt * (sigma.cwiseProduct(Dsym)).sum() / rho[0];
         rho[0] = rho0 / Fb.determinant();
+        if (!recorded.empty()) rho[0] = recorded[r + 1].first, e[0] = recorded[r + 1].second;
         update.update(f, dt);
         const double t = t0 + span * s / o.substeps;
         if (!S[0].allFinite() || !std::isfinite(p[0]) || !std::isfinite(e[0]))

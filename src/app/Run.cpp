@@ -62,6 +62,7 @@ void runDim(const Deck& deck, const RunOptions& options, const parallel::MpiCont
   } else {
     sim.generate();
   }
+  sim.prepareRecording();
   parallel::onRoot<UsageError>(mpi.comm(), [&] { prepareOutputDirectory(dir, options); });
   sim.run(options, dir);
 }

@@ -279,6 +279,7 @@ template <int Dim> void Simulation<Dim>::advanceSnapshotClock(const std::string&
 template <int Dim>
 void Simulation<Dim>::record(double dt, std::int64_t step, Clock::time_point wall0) {
   method_->stats().phases.time(methods::kOutput, [&] {
+    if (recorder_) recorder_->write(time_, store_, f_, mpi_); // every step
     if (step % deck_.output.history_every_steps != 0 && time_ < deck_.run.end_time) return;
     const auto t = diagnostics::computeTotals(store_, f_, mpi_);
     last_ = t;

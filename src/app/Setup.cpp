@@ -2,6 +2,7 @@
 
 #include "spall/methods/modules/BalsaraSwitch.hpp"
 #include "spall/methods/modules/Damage.hpp"
+#include "spall/methods/modules/DeformationGradient.hpp"
 #include "spall/methods/modules/FixedBodies.hpp"
 #include "spall/methods/modules/FrictionlessContact.hpp"
 #include "spall/methods/modules/Hydro.hpp"
@@ -117,6 +118,18 @@ std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck
   if (solver.contact != Contact::Welded)
     list.push_back(std::make_unique<methods::FrictionlessContact<Dim>>());
   if (!fixed.empty()) list.push_back(std::make_unique<methods::FixedBodies<Dim>>(fixed));
+  // The deformation gradient: for recorded particles, or when snapshots ask for it.
+  const auto& out = deck.output;
+  const bool recordF =
+      !out.record_particles.empty() ||
+      std::find(out.fields.begin(), out.fields.end(), "deformation_gradient") != out.fields.end();
+  if (recordF) {
+    if (!solids)
+      throw DeckError(out.record_particles.empty() ? out.where : out.recordWhere,
+                      "the deformation gradient integrates a solid's velocity gradient, and no "
+                      "material in this deck has strength");
+    list.push_back(std::make_unique<methods::DeformationGradient<Dim>>());
+  }
   return list;
 }
 

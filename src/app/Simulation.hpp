@@ -7,6 +7,7 @@
 // time-step warning).
 #include "spall/app/BodyGenerator.hpp"
 #include "spall/app/CheckpointFiles.hpp"
+#include "spall/app/ParticleRecorder.hpp"
 #include "spall/app/Run.hpp"
 #include "spall/app/RunLog.hpp"
 #include "spall/core/ParticleFields.hpp"
@@ -41,6 +42,12 @@ public:
   // CheckpointError when none does, UsageError when the checkpoint belongs to another deck.
   void resume(const RestartCandidates& candidates);
   void run(const RunOptions& options, const std::filesystem::path& dir);
+  // After generate or resume, before anything is written: the recorded particles exist (else a
+  // DeckError).
+  void prepareRecording() {
+    recorder_ = std::make_unique<ParticleRecorder<Dim>>(deck_.output);
+    recorder_->check(store_, f_, mpi_);
+  }
 
   // All ranks' owned particles.
   std::size_t particles() const { return totalParticles_; }
@@ -93,6 +100,7 @@ private:
   std::vector<std::string> deferredWarnings_;
   std::vector<std::pair<double, std::string>> series_;
   io::CsvLog history_, probesCsv_, fragmentsCsv_;
+  std::unique_ptr<ParticleRecorder<Dim>> recorder_;
   std::filesystem::path dir_;
   diagnostics::Totals totals0_, last_;
   double time_ = 0.0;

@@ -1,6 +1,7 @@
 // spall: the command line (INTERFACE.md). Exit codes: 0 finished, 1 the run failed, 2 usage or
 // deck error (nothing run, nothing written).
 #include "spall/app/Element.hpp"
+#include "spall/app/History.hpp"
 #include "spall/app/Run.hpp"
 #include "spall/app/SystemInfo.hpp"
 #include "spall/core/Error.hpp"
@@ -63,14 +64,21 @@ int main(int argc, char** argv) {
   elementCmd->add_option("--kinematics", element.kinematics,
                          "velocity gradient from F: run (Austin Eq. 4.10, replays a run; default) "
                          "or midpoint (Eq. 4.8, exact under superimposed rotation)");
+  elementCmd->add_option("--state", element.state,
+                         "a recorded particle's particle_ID.csv: its density and energy each row");
   elementCmd->add_flag("--every-substep", element.everySubstep,
                        "a CSV row per substep (default: one per table row)");
   elementCmd->add_option("--flaw-volume", element.flawVolume,
                          "volume (m^3) a Grady-Kipp material's flaws are drawn for (default 1e-9)");
   elementCmd->add_flag("--overwrite", element.overwrite, "replace an existing CSV");
-  auto* historyCmd =
-      cli.add_subcommand("history", "a particle's deformation history (not available yet)");
-  historyCmd->allow_extras();
+  spall::app::HistoryOptions history;
+  auto* historyCmd = cli.add_subcommand(
+      "history", "a particle's deformation history as an F-table (for spall element)");
+  historyCmd->add_option("outdir", history.outputDir, "a run's output directory")->required();
+  historyCmd->add_option("--particle", history.particle, "the particle's id")->required();
+  historyCmd->add_option("--output", history.output, "the F-table to write (- for stdout)")
+      ->required();
+  historyCmd->add_flag("--overwrite", history.overwrite, "replace an existing file");
 
   try {
     cli.parse(argc, argv);
@@ -94,10 +102,10 @@ int main(int argc, char** argv) {
       spall::app::runElement(element);
       return 0;
     }
-    if (*historyCmd)
-      return fail(
-          mpi, 2,
-          "error: this command arrives with the geomaterials work and is not available yet");
+    if (*historyCmd) {
+      if (mpi.root()) spall::app::writeHistory(history);
+      return 0;
+    }
     if (*checkCmd) {
       const auto deck = spall::loadDeck(checkDeckPath, checkOverrides);
       spall::app::checkDeck(deck, mpi);

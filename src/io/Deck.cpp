@@ -392,6 +392,14 @@ void DeckReader::readOutput(const TableReader& r, OutputConfig& o, double endTim
           "in [0, 100000] steps", static_cast<double>(o.failure_history));
   o.dt_warning = r.number("dt_warning").value_or(o.dt_warning);
   r.check(o.dt_warning >= 0.0 && o.dt_warning < 1.0, "dt_warning", "in [0, 1)", o.dt_warning);
+  o.recordWhere = r.whereValue("record_particles");
+  o.record_particles = r.integers("record_particles").value_or(std::vector<std::int64_t>{});
+  for (const std::int64_t id : o.record_particles)
+    r.check(id >= 0, "record_particles", "particle ids >= 0", static_cast<double>(id));
+  if (o.record_particles.size() > 64)
+    r.fail("record_particles", r.quoted("record_particles") +
+                                   " records every step: at most 64 particles (got " +
+                                   std::to_string(o.record_particles.size()) + ")");
 }
 
 void DeckReader::readFragments(const TableReader& r, FragmentsConfig& c,

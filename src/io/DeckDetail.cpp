@@ -88,7 +88,7 @@ const std::map<std::string, Names, std::less<>>& schema() {
       {"boundary", unionKeys("boundary")},
       {"output",
        {"directory", "every", "every_steps", "fields", "history_every_steps", "progress_seconds",
-        "progress_percent", "failure_history", "dt_warning"}},
+        "progress_percent", "failure_history", "dt_warning", "record_particles"}},
       {"checkpoint", {"every_steps", "every_wall_seconds", "keep"}},
       {"fragments", {"link_length", "damage_threshold"}},
       {"probe", {"name", "position", "track", "fields"}},
@@ -391,19 +391,37 @@ std::optional<std::vector<std::vector<double>>> TableReader::matrix(std::string_
   return m;
 }
 
-std::optional<std::vector<std::string>> TableReader::strings(std::string_view key) const {
-  const toml::node* node = table_.get(key);
+namespace {
+
+// An array of one TOML type ("strings", "integers"): get(node) is the entry's value, or nullptr.
+template <class T, class Get>
+std::optional<std::vector<T>> arrayOf(const TableReader& r, std::string_view key,
+                                      const std::string& what, Get get) {
+  const toml::node* node = r.table().get(key);
   if (!node) return std::nullopt;
   const toml::array* a = node->as_array();
-  if (!a) fail(key, quoted(key) + " must be an array of strings, got " + typeName(*node));
-  std::vector<std::string> v;
+  if (!a) r.fail(key, r.quoted(key) + " must be an array of " + what + ", got " + typeName(*node));
+  std::vector<T> v;
   for (const toml::node& e : *a) {
-    const auto* s = e.as_string();
-    if (!s)
-      throw DeckError(whereNode(e), quoted(key) + " entries must be strings, got " + typeName(e));
-    v.push_back(s->get());
+    const auto* value = get(e);
+    if (!value)
+      throw DeckError(r.whereNode(e),
+                      r.quoted(key) + " entries must be " + what + ", got " + typeName(e));
+    v.push_back(value->get());
   }
   return v;
+}
+
+} // namespace
+
+std::optional<std::vector<std::string>> TableReader::strings(std::string_view key) const {
+  return arrayOf<std::string>(*this, key, "strings",
+                              [](const toml::node& e) { return e.as_string(); });
+}
+
+std::optional<std::vector<std::int64_t>> TableReader::integers(std::string_view key) const {
+  return arrayOf<std::int64_t>(*this, key, "integers",
+                               [](const toml::node& e) { return e.as_integer(); });
 }
 
 const toml::table* TableReader::subtable(std::string_view key) const {

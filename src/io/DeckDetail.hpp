@@ -93,6 +93,7 @@ public:
   std::optional<std::vector<std::vector<double>>> matrix(std::string_view key,
                                                          std::size_t n) const; // n x n
   std::optional<std::vector<std::string>> strings(std::string_view key) const;
+  std::optional<std::vector<std::int64_t>> integers(std::string_view key) const;
   const toml::table* subtable(std::string_view key) const;
   std::vector<const toml::table*> tables(std::string_view key) const; // [[key]]
   // A string from `allowed`; `fallback` when absent (or a missing-key error without one).

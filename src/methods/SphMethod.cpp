@@ -41,6 +41,7 @@ template <int Dim> void SphMethod<Dim>::advance(double dt, std::int64_t step, do
     // S_{n+1} from S_n and the last velocity gradient (explicit, like the drift), then p and cs
     // of the drifted state: the force evaluation below sees the new stress, and the new pressure
     // (with summation density, the density pass recomputes it from the new density).
+    for (const auto& m : modules_) m->beforeMaterials(s_, f_, dt);
     materials_.update(materialFields(), dt);
     s_.swapValues(f_.a, f_.aOld);
     s_.swapValues(f_.dedt, f_.dedtOld);

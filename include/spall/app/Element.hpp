@@ -20,6 +20,10 @@ struct ElementOptions {
   // with the strength models' Hughes-Winget update a superimposed rotation is then followed
   // exactly. "run" reads a rotation increment dtheta as a strain of -dtheta^2/2.
   std::string kinematics = "run";
+  // A recorded particle's state (particles/particle_ID.csv of a run): its density and energy at
+  // each table row replace rho0/det F and the stress power, so that the EOS sees what the particle
+  // had (one substep a row; the rows' times must be the table's).
+  std::string state;
   bool everySubstep = false; // a CSV row per substep, not per table row
   bool overwrite = false;
   double flawVolume = 1.0e-9; // m^3: the volume a Grady-Kipp material's flaws are drawn for

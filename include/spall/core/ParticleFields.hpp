@@ -40,6 +40,7 @@ template <int Dim> struct ParticleFields {
   // their activation strains (eps_j = scale u_j^(1/m)) and the next one's activation strain.
   Field<double> damage;
   Field<Tensor<3>> Sintact;
+  Field<Tensor<3>> Fdef; // the deformation gradient (Austin 2013, Eq. 4.9), when recorded
   Field<std::int32_t> flawCount, flawsActive;
   Field<double> flawScale, flawNext;
   // Owen's tensor damage (mode "tensor"): the damage tensor and the strain history it grows along.
@@ -109,6 +110,10 @@ template <int Dim> struct ParticleFields {
     // Snapshots get the Dim x Dim block as `damage_tensor` (app/RunOutput.cpp).
     damageTensor = s.add<Tensor<3>>("damage_tensor_3x3", kCheckpoint);
     strainTensor = s.add<Tensor<3>>("strain_tensor", kCheckpoint);
+  }
+  // F_{n+1} = (I + dt L_n) F_n of the owned particles: snapshots ([N,3,3]) and checkpoints.
+  void registerDeformationGradient(ParticleStore& s) {
+    Fdef = s.add<Tensor<3>>("deformation_gradient", kOutput | kCheckpoint);
   }
   // Sent to ghosts on its own, after it is computed (not with the halo).
   void registerKernelCorrection(ParticleStore& s) {

@@ -149,7 +149,10 @@ struct OutputConfig {
   std::int64_t failure_history = 20;
   // A warning when dt falls below this fraction of its median over the last 100 steps (0: off).
   double dt_warning = 0.1;
-  SourceLocation where;
+  // Particle ids whose deformation gradient and stress are written every step
+  // (particles/particle_ID.ftable and .csv; `spall history`, `spall element`).
+  std::vector<std::int64_t> record_particles;
+  SourceLocation where, recordWhere;
 };
 
 struct CheckpointConfig {

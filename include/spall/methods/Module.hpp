@@ -27,6 +27,10 @@ public:
                           const RunStart& /*start*/) const {}
   // After each force evaluation, on the owned particles' rates.
   virtual void afterRates(ParticleStore& /*s*/, const ParticleFields<Dim>& /*f*/) const {}
+  // Once per step, before the material update, with the step's dt: history that integrates the
+  // velocity gradient the material update is about to use.
+  virtual void beforeMaterials(ParticleStore& /*s*/, const ParticleFields<Dim>& /*f*/,
+                               double /*dt*/) const {}
   // Restartable state beyond the module's fields (checkpoint state keys are the module's own).
   virtual void save(io::CheckpointState& /*st*/) const {}
   virtual void restore(const io::CheckpointState& /*st*/) {}

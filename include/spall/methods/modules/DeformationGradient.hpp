@@ -1,0 +1,28 @@
+#pragma once
+// The deformation gradient of each particle (a solid's), advanced as the material sees its
+// motion: with the velocity gradient L_n the material update of the step uses, held constant over
+// the step, F_{n+1} = (I + dt L_n) F_n (Austin 2013, Eq. 4.9). So L_n = (F_{n+1} F_n^-1 - I)/dt
+// (his Eq. 4.10), what `spall element` hands the material from a recorded F-table: the particle's
+// history replays. F = I at t = 0; checkpointed, and in snapshots as `deformation_gradient`.
+#include "spall/methods/Module.hpp"
+
+namespace spall::methods {
+
+template <int Dim> class DeformationGradient final : public Module<Dim> {
+public:
+  void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override {
+    f.registerDeformationGradient(s);
+  }
+  void initialise(ParticleStore& s, const ParticleFields<Dim>& f,
+                  const RunStart& /*start*/) const override {
+    for (std::size_t i = 0; i < s.localCount(); ++i) s[f.Fdef][i].setIdentity();
+  }
+  void beforeMaterials(ParticleStore& s, const ParticleFields<Dim>& f, double dt) const override {
+    const auto F = s[f.Fdef];
+    const auto L = s[f.L];
+    for (std::size_t i = 0; i < s.localCount(); ++i)
+      F[i] = ((Tensor<3>::Identity() + dt * L[i]) * F[i]).eval();
+  }
+};
+
+} // namespace spall::methods
