@@ -186,7 +186,8 @@ std::vector<std::int32_t> contactGroups(std::span<const Vec<Dim>> x,
 } // namespace
 
 template <int Dim>
-std::vector<BodySummary> generateBodies(const Deck& deck, const std::vector<materials::Eos>& eos,
+std::vector<BodySummary> generateBodies(const Deck& deck,
+                                        const std::vector<materials::Material>& materials,
                                         ParticleStore& store, const ParticleFields<Dim>& f) {
   struct Site {
     Vec<Dim> x;
@@ -304,12 +305,28 @@ std::vector<BodySummary> generateBodies(const Deck& deck, const std::vector<mate
   for (std::size_t b = 0; b < deck.bodies.size(); ++b) {
     const BodyConfig& body = deck.bodies[b];
     const MaterialConfig& material = deck.materials[static_cast<std::size_t>(body.material_index)];
-    const double rho0 = body.initial_density.value_or(material.density);
+    double rho0 = body.initial_density.value_or(material.density);
     double e0 = body.initial_specific_energy.value_or(0.0);
-    if (body.initial_pressure) {
+    const materials::Material& model = materials[static_cast<std::size_t>(body.material_index)];
+    if (body.initial_pressure && model.cap) {
+      // A cap material's pressure is its elastic strain's: the start density carries it.
+      if (body.initial_density)
+        throw DeckError(body.where, fmt::format("body '{}': initial_pressure and "
+                                                "initial_density both set the density of a "
+                                                "'cap' material; give one",
+                                                body.name));
+      const auto rho = model.cap->densityForPressure(*body.initial_pressure);
+      if (!rho)
+        throw DeckError(body.where,
+                        fmt::format("body '{}': initial_pressure {:g} Pa puts material '{}' "
+                                    "outside its yield surface (the cap starts at I1 = "
+                                    "crush_p0; the tensile vertex is peak_i1)",
+                                    body.name, *body.initial_pressure, material.name));
+      rho0 = *rho;
+    } else if (body.initial_pressure) {
       const auto ep = std::visit(
-          [&](const auto& model) { return model.energyForPressure(rho0, *body.initial_pressure); },
-          eos[static_cast<std::size_t>(body.material_index)]);
+          [&](const auto& eos) { return eos.energyForPressure(rho0, *body.initial_pressure); },
+          model.eos);
       if (!ep) {
         throw DeckError(body.where,
                         fmt::format("body '{}': initial_pressure cannot be set with the "
@@ -413,8 +430,9 @@ void applyEnergySources(const Deck& deck, ParticleStore& store, const ParticleFi
 }
 
 #define SPALL_INSTANTIATE(D)                                                                       \
-  template std::vector<BodySummary> generateBodies<D>(                                             \
-      const Deck&, const std::vector<materials::Eos>&, ParticleStore&, const ParticleFields<D>&);  \
+  template std::vector<BodySummary> generateBodies<D>(const Deck&,                                 \
+                                                      const std::vector<materials::Material>&,     \
+                                                      ParticleStore&, const ParticleFields<D>&);   \
   template void applyEnergySources<D>(const Deck&, ParticleStore&, const ParticleFields<D>&);
 SPALL_INSTANTIATE(1)
 SPALL_INSTANTIATE(2)

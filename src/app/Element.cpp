@@ -40,8 +40,14 @@ Tensor<3> polarRotation(const Tensor<3>& F) {
   return svd.matrixU() * svd.matrixV().transpose();
 }
 
-// The density and energy columns of a recorded state, one pair a table row.
-std::vector<std::pair<double, double>> readState(const std::string& path, const io::FTable& table) {
+// A recorded particle's row: the density and energy at the step's end, and those its material
+// update saw (before the kick's correction; recordings without them: the same).
+struct RecordedRow {
+  double rho = 0.0, e = 0.0, rhoUpdate = 0.0, eUpdate = 0.0;
+};
+
+// The rows of a recorded state, one a table row.
+std::vector<RecordedRow> readState(const std::string& path, const io::FTable& table) {
   std::ifstream in(path);
   if (!in) throw UsageError("cannot read the state " + path);
   std::string line;
@@ -52,14 +58,19 @@ std::vector<std::pair<double, double>> readState(const std::string& path, const 
     if (b == std::string::npos) b = line.size();
     names.push_back(line.substr(a, b - a));
   }
+  const auto find = [&](const std::string& name) {
+    return static_cast<std::size_t>(std::find(names.begin(), names.end(), name) - names.begin());
+  };
   const auto column = [&](const std::string& name) {
-    const auto it = std::find(names.begin(), names.end(), name);
-    if (it == names.end()) throw DeckError({path, 1, 0}, "no column '" + name + "'");
-    return static_cast<std::size_t>(it - names.begin());
+    const std::size_t c = find(name);
+    if (c == names.size()) throw DeckError({path, 1, 0}, "no column '" + name + "'");
+    return c;
   };
   const std::size_t ct = column("t"), crho = column("density"),
                     ce = column("specific_internal_energy");
-  std::vector<std::pair<double, double>> out;
+  const std::size_t cru = find("update_density"), ceu = find("update_specific_internal_energy");
+  const bool update = cru < names.size() && ceu < names.size();
+  std::vector<RecordedRow> out;
   int lineNo = 1;
   while (std::getline(in, line)) {
     ++lineNo;
@@ -70,7 +81,7 @@ std::vector<std::pair<double, double>> readState(const std::string& path, const 
     const std::size_t k = out.size();
     if (v.size() != names.size() || k >= table.rows.size() || v[ct] != table.rows[k].t)
       throw DeckError({path, lineNo, 0}, "the state's rows must be the F-table's, time for time");
-    out.emplace_back(v[crho], v[ce]);
+    out.push_back({v[crho], v[ce], update ? v[cru] : v[crho], update ? v[ceu] : v[ce]});
   }
   if (out.size() != table.rows.size())
     throw DeckError({path, lineNo, 0}, fmt::format("the state has {} rows, the F-table {}",
@@ -102,8 +113,7 @@ void runElement(const ElementOptions& o) {
     throw UsageError(
         fmt::format("no material '{}' in {} (it has: {})", o.material, o.deckPath, names));
   const io::FTable table = io::readFTable(o.table);
-  const auto recorded =
-      o.state.empty() ? std::vector<std::pair<double, double>>{} : readState(o.state, table);
+  const auto recorded = o.state.empty() ? std::vector<RecordedRow>{} : readState(o.state, table);
   if (fs::exists(o.output) && !o.overwrite)
     throw UsageError(o.output + " exists; --overwrite replaces it");
   const fs::path parent = fs::path(o.output).parent_path();
@@ -114,13 +124,15 @@ void runElement(const ElementOptions& o) {
   const materials::Material mat = buildMaterials(deck)[k];
   const materials::MaterialUpdate update({mat}, deck.run.seed);
   const bool strength = mat.strength.has_value(), damage = mat.damage.has_value();
+  const bool cap = mat.cap.has_value();
   const bool flaws = mat.scalesWithDamage(), tensor = mat.tensorDamage();
 
   // The particle: every field the material update reads or writes, one row each. It starts
-  // unstressed at the table's first F (density rho0 / det F), with no internal energy.
+  // without deviatoric stress at the table's first F (density rho0 / det F, which sets a cap
+  // material's mean stress), with no internal energy.
   const double rho0 = cfg.density;
   std::vector<double> rho{rho0 / totalF(table, 0, 0.0).determinant()}, e{0.0}, p{0.0}, cs{0.0};
-  if (!recorded.empty()) rho[0] = recorded[0].first, e[0] = recorded[0].second;
+  if (!recorded.empty()) rho[0] = recorded[0].rho, e[0] = recorded[0].e;
   std::vector<double> plastic{0.0},
       temperature{cfg.strength.type == "johnson_cook" ? cfg.strength.room_temperature : 0.0};
   std::vector<double> D{0.0}, flawScale{0.0}, flawNext{0.0};
@@ -128,6 +140,8 @@ void runElement(const ElementOptions& o) {
   std::vector<Tensor<3>> L{Tensor<3>::Zero()}, S{Tensor<3>::Zero()}, Sintact{Tensor<3>::Zero()};
   std::vector<Tensor<3>> damageTensor{Tensor<3>::Zero()}, strainTensor{Tensor<3>::Zero()};
   std::vector<ParticleId> id{0};
+  std::vector<double> epsVp{0.0}, X{0.0}, phi{0.0}, pf{0.0};
+  std::vector<std::int32_t> iterations{0};
   if (flaws) {
     const auto set = materials::drawFlaws(std::get<materials::GradyKipp>(*mat.damage),
                                           deck.run.seed, 0, o.flawVolume, 1);
@@ -139,6 +153,9 @@ void runElement(const ElementOptions& o) {
     f.flawCount = flawCount, f.flawsActive = flawsActive, f.flawScale = flawScale,
     f.flawNext = flawNext;
   if (tensor) f.damageTensor = damageTensor, f.strainTensor = strainTensor;
+  if (cap)
+    f.volumetricStrain = epsVp, f.capPosition = X, f.porosity = phi, f.porePressure = pf,
+    f.returnIterations = iterations;
   update.evaluate(f);
 
   // Written to a side file and renamed when complete: a failed drive leaves no partial CSV.
@@ -154,6 +171,9 @@ void runElement(const ElementOptions& o) {
       header += fmt::format(",{}", c);
     header += ",density,specific_internal_energy,pressure,sound_speed";
     if (strength) header += ",plastic_strain,temperature";
+    if (cap)
+      header += ",plastic_strain,plastic_volumetric_strain,cap_position,porosity,pore_pressure,"
+                "return_iterations";
     if (damage) header += ",damage";
     out.print("{}\n", header);
     const auto row = [&](double t, const Tensor<3>& F) {
@@ -167,6 +187,9 @@ void runElement(const ElementOptions& o) {
       for (const auto& ij : kVoigt) line += fmt::format(",{:.17g}", unrotated(ij[0], ij[1]));
       line += fmt::format(",{:.17g},{:.17g},{:.17g},{:.17g}", rho[0], e[0], p[0], cs[0]);
       if (strength) line += fmt::format(",{:.17g},{:.17g}", plastic[0], temperature[0]);
+      if (cap)
+        line += fmt::format(",{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{}", plastic[0], epsVp[0],
+                            X[0], phi[0], pf[0], iterations[0]);
       if (damage) line += fmt::format(",{:.17g}", D[0]);
       out.print("{}\n", line);
     };
@@ -187,8 +210,15 @@ void runElement(const ElementOptions& o) {
         const Tensor<3> Dsym = 0.5 * (L[0] + L[0].transpose());
         e[0] += dt * (sigma.cwiseProduct(Dsym)).sum() / rho[0];
         rho[0] = rho0 / Fb.determinant();
-        if (!recorded.empty()) rho[0] = recorded[r + 1].first, e[0] = recorded[r + 1].second;
-        update.update(f, dt);
+        if (recorded.empty()) {
+          update.update(f, dt);
+        } else { // the run's update, then its re-evaluation at the kick-corrected state
+          const RecordedRow& rec = recorded[r + 1];
+          rho[0] = rec.rhoUpdate, e[0] = rec.eUpdate;
+          update.update(f, dt);
+          rho[0] = rec.rho, e[0] = rec.e;
+          update.evaluate(f);
+        }
         const double t = t0 + span * s / o.substeps;
         if (!S[0].allFinite() || !std::isfinite(p[0]) || !std::isfinite(e[0]))
           throw RunError(fmt::format("element: non-finite stress at t = {:.9g} (between the "

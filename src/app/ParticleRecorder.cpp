@@ -13,8 +13,9 @@ namespace fs = std::filesystem;
 namespace {
 
 // A row: found, F (9, row by row), sigma (xx yy zz xy yz xz), density, energy, pressure,
-// plastic strain, temperature, damage.
-constexpr std::size_t kRow = 1 + 9 + 6 + 6;
+// plastic strain, temperature, damage, the density and energy of the step's material update, and
+// a cap material's plastic volumetric strain, cap position, porosity, pore pressure.
+constexpr std::size_t kRow = 1 + 9 + 6 + 6 + 2 + 4;
 constexpr int kVoigt[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {1, 2}, {0, 2}};
 
 } // namespace
@@ -43,14 +44,17 @@ void ParticleRecorder<Dim>::check(const ParticleStore& s, const ParticleFields<D
 
 template <int Dim>
 void ParticleRecorder<Dim>::open(const fs::path& dir, bool resumed, double time,
-                                 const parallel::MpiContext& mpi) {
+                                 const ParticleFields<Dim>& f, const parallel::MpiContext& mpi) {
+  cap_ = f.hasCap();
   if (ids_.empty() || !mpi.root()) return;
   fs::create_directories(dir / "particles");
   std::string fHeader = "# t";
   for (int a = 1; a <= 3; ++a)
     for (int b = 1; b <= 3; ++b) fHeader += fmt::format(" F{}{}", a, b);
-  const std::string sHeader = "t,sxx,syy,szz,sxy,syz,sxz,density,specific_internal_energy,"
-                              "pressure,plastic_strain,temperature,damage";
+  std::string sHeader = "t,sxx,syy,szz,sxy,syz,sxz,density,specific_internal_energy,pressure,"
+                        "plastic_strain,temperature,damage,update_density,"
+                        "update_specific_internal_energy";
+  if (cap_) sHeader += ",plastic_volumetric_strain,cap_position,porosity,pore_pressure";
   for (const std::int64_t id : ids_) {
     const fs::path table = dir / "particles" / fmt::format("particle_{}.ftable", id);
     const fs::path state = dir / "particles" / fmt::format("particle_{}.csv", id);
@@ -88,6 +92,14 @@ void ParticleRecorder<Dim>::write(double time, const ParticleStore& s, const Par
       r[19] = s[f.plasticStrain][i];
       r[20] = s[f.temperature][i];
       r[21] = f.hasDamage() ? s[f.damage][i] : 0.0;
+      r[22] = s[f.rhoUpdate][i];
+      r[23] = s[f.eUpdate][i];
+      if (cap_) {
+        r[24] = s[f.volumetricStrain][i];
+        r[25] = s[f.capPosition][i];
+        r[26] = s[f.porosity][i];
+        r[27] = s[f.porePressure][i];
+      }
     }
   // One owner a particle: the sum is its row, exactly.
   MPI_Reduce(mpi.root() ? MPI_IN_PLACE : rows.data(), rows.data(), static_cast<int>(rows.size()),
@@ -97,7 +109,8 @@ void ParticleRecorder<Dim>::write(double time, const ParticleStore& s, const Par
     const double* r = rows.data() + k * kRow;
     std::string table = fmt::format("{:.17g}", time), state = table;
     for (int c = 1; c < 10; ++c) table += fmt::format(" {:.17g}", r[c]);
-    for (std::size_t c = 10; c < kRow; ++c) state += fmt::format(",{:.17g}", r[c]);
+    for (std::size_t c = 10; c < (cap_ ? kRow : kRow - 4); ++c)
+      state += fmt::format(",{:.17g}", r[c]);
     tables_[k].row(table);
     states_[k].row(state);
   }

@@ -1,6 +1,7 @@
 #include "spall/app/Setup.hpp"
 
 #include "spall/methods/modules/BalsaraSwitch.hpp"
+#include "spall/methods/modules/CapPlasticity.hpp"
 #include "spall/methods/modules/Damage.hpp"
 #include "spall/methods/modules/DeformationGradient.hpp"
 #include "spall/methods/modules/FixedBodies.hpp"
@@ -57,6 +58,26 @@ std::optional<materials::Damage> buildDamage(const DamageConfig& c) {
   return std::nullopt;
 }
 
+std::optional<materials::CapPlasticity> buildCap(const MaterialConfig& m) {
+  const StrengthConfig& c = m.strength;
+  if (c.type != "cap") return std::nullopt;
+  materials::CapPlasticity cap;
+  cap.rho0 = m.density;
+  cap.K = c.bulk_modulus;
+  cap.G = c.shear_modulus;
+  cap.peakI1 = c.peak_i1;
+  cap.fSlope = c.f_slope;
+  cap.capRatio = c.cap_ratio;
+  cap.P0 = c.crush_p0;
+  cap.P1 = c.crush_p1;
+  cap.P3 = c.crush_p3;
+  cap.hardening = c.hardening;
+  cap.dilatancy = c.dilatancy;
+  cap.Kf = c.fluid_bulk_modulus;
+  cap.pf0 = c.initial_pore_pressure;
+  return cap;
+}
+
 materials::Erosion erosionOf(const std::string& name) {
   if (name == "no_tension") return materials::Erosion::NoTension;
   if (name == "no_shear") return materials::Erosion::NoShear;
@@ -68,9 +89,12 @@ materials::Erosion erosionOf(const std::string& name) {
 
 std::vector<materials::Material> buildMaterials(const Deck& deck) {
   std::vector<materials::Material> out;
-  for (const auto& m : deck.materials)
+  for (const auto& m : deck.materials) {
+    // A cap material has no eos (DeckMaterial.cpp): its placeholder is never evaluated.
+    const materials::Eos eos = m.strength.type == "cap" ? materials::Eos{} : buildEos(m);
     out.push_back(
-        {buildEos(m), buildStrength(m.strength), buildDamage(m.damage), erosionOf(m.erosion)});
+        {eos, buildStrength(m.strength), buildDamage(m.damage), erosionOf(m.erosion), buildCap(m)});
+  }
   return out;
 }
 
@@ -112,6 +136,9 @@ std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck
     flaws.push_back(g ? std::optional<materials::GradyKipp>(*g) : std::nullopt);
   }
   if (damage) list.push_back(std::make_unique<methods::Damage<Dim>>(flaws, deck.run.seed));
+  if (std::any_of(deck.materials.begin(), deck.materials.end(),
+                  [](const auto& m) { return m.strength.type == "cap"; }))
+    list.push_back(std::make_unique<methods::CapPlasticity<Dim>>());
   if (solids && solver.velocity_gradient == VelocityGradient::Corrected)
     list.push_back(std::make_unique<methods::KernelCorrection<Dim>>());
   if (solver.method == "asph") list.push_back(std::make_unique<methods::SmoothingTensor<Dim>>());

@@ -57,9 +57,7 @@ Simulation<Dim>::Simulation(const Deck& deck, const parallel::MpiContext& mpi)
 }
 
 template <int Dim> void Simulation<Dim>::generate() {
-  std::vector<materials::Eos> eos;
-  for (const auto& m : materials_) eos.push_back(m.eos);
-  bodies_ = generateBodies<Dim>(deck_, eos, store_, f_);
+  bodies_ = generateBodies<Dim>(deck_, materials_, store_, f_);
   applyEnergySources<Dim>(deck_, store_, f_);
   decomposition_->distributeInitial(store_);
   totalParticles_ = mpi_.sum(static_cast<std::uint64_t>(store_.localCount()));
@@ -264,7 +262,7 @@ template <int Dim> void Simulation<Dim>::run(const RunOptions& options, const fs
   dir_ = dir;
   const bool resumed = !resumedFrom_.empty();
   openLogs(dir, resumed, log);
-  if (recorder_) recorder_->open(dir, resumed, time_, mpi_);
+  if (recorder_) recorder_->open(dir, resumed, time_, f_, mpi_);
   if (resumed)
     log.note(fmt::format(
         "restarted from {} at step {} (t = {:.6g} s){}; {:.1f} MB read in {:.2f} s", resumedFrom_,

@@ -283,14 +283,12 @@ void DeckReader::readBody(const TableReader& r, const std::vector<MaterialConfig
         point(lv, "center"), lv.required(lv.matrix("gradient", dimension_), "gradient")};
   }
   b.fixed = r.boolean("fixed").value_or(false);
-  if (b.fixed) {
-    const bool moving =
-        std::any_of(b.velocity.begin(), b.velocity.end(), [](double v) { return v != 0.0; }) ||
-        b.radial_velocity || b.cantilever_velocity || b.linear_velocity;
-    if (moving)
-      r.fail("fixed", r.quoted("fixed") +
-                          " body cannot also be given a velocity (a fixed body is held at rest)");
-  }
+  // A fixed body has no acceleration: at rest it is a clamp, with a uniform velocity a piston
+  // driven at that speed. A velocity field would shear it forever.
+  if (b.fixed && (b.radial_velocity || b.cantilever_velocity || b.linear_velocity))
+    r.fail("fixed", r.quoted("fixed") +
+                        " body moves rigidly (at rest, or at its uniform `velocity`: a piston) and "
+                        "cannot be given a velocity field");
 }
 
 void DeckReader::readShape(const TableReader& r, ShapeConfig& s) const {

@@ -47,19 +47,45 @@ void readEos(const TableReader& r, EosConfig& e) {
   }
 }
 
+// strength = {type = "cap", ...}: the keys of INTERFACE.md; compression negative.
+void readCap(const TableReader& r, StrengthConfig& c) {
+  const auto need = [&](std::string_view key) { return r.required(r.number(key), key); };
+  c.bulk_modulus = need("bulk_modulus");
+  r.check(c.bulk_modulus > 0.0, "bulk_modulus", "> 0", c.bulk_modulus);
+  c.peak_i1 = need("peak_i1");
+  r.check(c.peak_i1 >= 0.0, "peak_i1", ">= 0 (I1 at the tensile vertex, Pa)", c.peak_i1);
+  c.f_slope = need("f_slope");
+  r.check(c.f_slope > 0.0, "f_slope", "> 0", c.f_slope);
+  c.cap_ratio = need("cap_ratio");
+  r.check(c.cap_ratio > 0.0, "cap_ratio", "> 0", c.cap_ratio);
+  c.crush_p0 = need("crush_p0");
+  r.check(c.crush_p0 < 0.0, "crush_p0", "< 0 (the initial cap position: I1, compression negative)",
+          c.crush_p0);
+  c.crush_p1 = need("crush_p1");
+  r.check(c.crush_p1 > 0.0, "crush_p1", "> 0 (1/Pa)", c.crush_p1);
+  c.crush_p3 = need("crush_p3");
+  r.check(c.crush_p3 > 0.0, "crush_p3", "> 0 (the largest compaction strain)", c.crush_p3);
+  c.hardening = r.boolean("hardening").value_or(true);
+  c.dilatancy = r.number("dilatancy").value_or(1.0);
+  r.check(c.dilatancy >= 0.0 && c.dilatancy <= 1.0, "dilatancy", "in [0, 1]", c.dilatancy);
+  c.fluid_bulk_modulus = r.number("fluid_bulk_modulus").value_or(0.0);
+  r.check(c.fluid_bulk_modulus >= 0.0, "fluid_bulk_modulus", ">= 0 (0: drained)",
+          c.fluid_bulk_modulus);
+  c.initial_pore_pressure = r.number("initial_pore_pressure").value_or(0.0);
+  r.check(c.initial_pore_pressure >= 0.0, "initial_pore_pressure", ">= 0", c.initial_pore_pressure);
+}
+
 void readStrength(const TableReader& r, StrengthConfig& c) {
   c.where = r.where();
-  const auto type = r.string("type");
-  if (type && *type == "cap")
-    r.fail("type",
-           "strength type 'cap' arrives with the geomaterials work and is not available yet");
   c.type = r.choice("type", typeNames("material.strength"), std::nullopt);
   allowTypedKeys(r, "material.strength", c.type, "strength type");
   const auto need = [&](std::string_view key) { return r.required(r.number(key), key); };
   if (c.type == "none") return;
   c.shear_modulus = need("shear_modulus");
   r.check(c.shear_modulus > 0.0, "shear_modulus", "> 0", c.shear_modulus);
-  if (c.type == "von_mises") {
+  if (c.type == "cap") {
+    readCap(r, c);
+  } else if (c.type == "von_mises") {
     c.yield_stress = need("yield_stress");
     r.check(c.yield_stress > 0.0, "yield_stress", "> 0", c.yield_stress);
   } else if (c.type == "johnson_cook") {
@@ -127,13 +153,22 @@ void readMaterial(const TableReader& r, MaterialConfig& m) {
   m.where = r.where();
   m.density = r.required(r.number("density"), "density");
   r.check(m.density > 0.0, "density", "> 0", m.density);
-  const toml::table* eos = r.subtable("eos");
-  if (!eos) r.missing("eos");
-  readEos(child(r, *eos, r.context().child("eos")), m.eos);
-
   if (const toml::table* t = r.subtable("strength")) {
     const TableReader s = child(r, *t, r.context().child("strength"));
     readStrength(s, m.strength);
+  }
+  const toml::table* eos = r.subtable("eos");
+  if (m.strength.type == "cap") { // the cap model's elasticity is its equation of state
+    if (r.has("eos"))
+      r.fail("eos", "a 'cap' material computes its whole stress, pressure included, from its own "
+                    "bulk_modulus and plasticity: remove 'eos' from " +
+                        r.context().human);
+    if (r.has("damage"))
+      r.fail("damage", "damage of a 'cap' material is not available yet (its cap retracts as it "
+                       "dilates: the model's own softening)");
+  } else {
+    if (!eos) r.missing("eos");
+    readEos(child(r, *eos, r.context().child("eos")), m.eos);
   }
   if (const toml::table* t = r.subtable("damage")) {
     readDamage(child(r, *t, r.context().child("damage")), m.damage);

@@ -6,12 +6,6 @@
 
 namespace spall::materials {
 
-namespace {
-double shearModulusOf(const Material& m) {
-  return m.strength ? std::visit([](const auto& s) { return s.shearModulus(); }, *m.strength) : 0.0;
-}
-} // namespace
-
 bool MaterialUpdate::anyDamage() const {
   return std::any_of(materials_.begin(), materials_.end(),
                      [](const Material& m) { return m.damage.has_value(); });
@@ -20,6 +14,11 @@ bool MaterialUpdate::anyDamage() const {
 bool MaterialUpdate::anyFlaws() const {
   return std::any_of(materials_.begin(), materials_.end(),
                      [](const Material& m) { return m.scalesWithDamage(); });
+}
+
+bool MaterialUpdate::anyCap() const {
+  return std::any_of(materials_.begin(), materials_.end(),
+                     [](const Material& m) { return m.cap.has_value(); });
 }
 
 bool MaterialUpdate::anyTensorDamage() const {
@@ -33,8 +32,12 @@ void MaterialUpdate::evaluate(const MaterialFields& f) const {
   const std::size_t n = f.rho.size();
   for (std::size_t k = 0; k < materials_.size(); ++k) {
     const Material& mat = materials_[k];
-    const double G = shearModulusOf(mat);
+    const double G = mat.shearModulus();
     const auto id = static_cast<std::int32_t>(k);
+    if (mat.cap) {
+      evaluateCap(*mat.cap, id, f);
+      continue;
+    }
     const bool damage = mat.damage.has_value(), scales = mat.scalesWithDamage();
     const bool tensorMode = mat.tensorDamage();
     std::visit(
@@ -64,6 +67,10 @@ void MaterialUpdate::update(const MaterialFields& f, double dt) const {
   for (std::size_t k = 0; k < materials_.size(); ++k) {
     const Material& mat = materials_[k];
     const auto id = static_cast<std::int32_t>(k);
+    if (mat.cap) {
+      updateCap(*mat.cap, id, f, dt);
+      continue;
+    }
     if (!mat.strength) { // a fluid: the EOS stage alone
       std::visit(
           [&](const auto& eos) {
@@ -97,6 +104,41 @@ void MaterialUpdate::update(const MaterialFields& f, double dt) const {
           }
         },
         mat.eos, *mat.strength);
+  }
+}
+
+// The cap model's state at the particle's density: no history advances.
+void MaterialUpdate::evaluateCap(const CapPlasticity& cap, std::int32_t id,
+                                 const MaterialFields& f) const {
+  for (std::size_t i = 0; i < f.rho.size(); ++i) {
+    if (f.material[i] != id) continue;
+    const CapResponse r =
+        cap.respond(f.rho[i], {f.S[i], f.plasticStrain[i], f.volumetricStrain[i]});
+    f.p[i] = r.p;
+    f.cs[i] = r.cs;
+    f.capPosition[i] = r.X;
+    f.porosity[i] = r.phi;
+    f.porePressure[i] = r.pf;
+  }
+}
+
+// The return of materials/CapPlasticity.hpp, then what the new state means at the density.
+void MaterialUpdate::updateCap(const CapPlasticity& cap, std::int32_t id, const MaterialFields& f,
+                               double dt) const {
+  for (std::size_t i = 0; i < f.rho.size(); ++i) {
+    if (f.material[i] != id) continue;
+    const CapStep step =
+        cap.update({f.S[i], f.plasticStrain[i], f.volumetricStrain[i]}, f.L[i], dt, f.rho[i]);
+    f.S[i] = step.state.S;
+    f.plasticStrain[i] = step.state.plasticStrain;
+    f.volumetricStrain[i] = step.state.volumetricStrain;
+    if (!f.returnIterations.empty()) f.returnIterations[i] = step.iterations;
+    const CapResponse r = cap.respond(f.rho[i], step.state);
+    f.p[i] = r.p;
+    f.cs[i] = r.cs;
+    f.capPosition[i] = r.X;
+    f.porosity[i] = r.phi;
+    f.porePressure[i] = r.pf;
   }
 }
 

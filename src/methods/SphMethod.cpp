@@ -20,7 +20,7 @@ SphMethod<Dim>::SphMethod(const parallel::MpiContext& mpi, SphSetup setup,
       boundaries_(setup_.boundaries, store, f), halo_(mpi.comm(), boundaries_.periodicAxes()) {
   std::vector<bool> solid, failedNoTension;
   for (const auto& m : materials_.materials()) {
-    solid.push_back(m.strength.has_value());
+    solid.push_back(m.solid());
     failedNoTension.push_back(m.failedCarriesNoTension());
   }
   if (!materials_.anyDamage()) failedNoTension.clear();
@@ -268,6 +268,12 @@ template <int Dim> materials::MaterialFields SphMethod<Dim>::materialFields() {
     mf.flawsActive = s_[f_.flawsActive].first(n);
     mf.flawScale = s_[f_.flawScale].first(n);
     mf.flawNext = s_[f_.flawNext].first(n);
+  }
+  if (f_.hasCap()) {
+    mf.volumetricStrain = s_[f_.volumetricStrain].first(n);
+    mf.capPosition = s_[f_.capPosition].first(n);
+    mf.porosity = s_[f_.porosity].first(n);
+    mf.porePressure = s_[f_.porePressure].first(n);
   }
   if (f_.damageTensor.valid()) {
     mf.damageTensor = s_[f_.damageTensor].first(n);

@@ -75,7 +75,11 @@ CASES = [("sod_1d.toml", []), ("rod_impact_copper.toml", ["run.end_time=6e-6"]),
          ("rock_impact_2d.toml", ["run.end_time=3e-6", 'material.basalt.damage.mode="tensor"']),
          # ASPH with tensor damage mid-failure: cracked pairs (a failed particle between two
          # intact ones) decided alike whichever rank owns the three
-         ("stretching_rod_damage_2d.toml", ["run.end_time=4e-5"])]
+         ("stretching_rod_damage_2d.toml", ["run.end_time=4e-5"]),
+         # the cap model (saturated): a confined block crushing behind a piston, walls, a
+         # Brent-iterated return per particle; plastic volumetric strain, cap, pore pressure
+         ("sandstone_confined_2d.toml", ["run.end_time=8e-6", "run.resolution=0.5",
+                                         "material.sandstone.strength.fluid_bulk_modulus=2.2e9"])]
 
 with tempfile.TemporaryDirectory() as tmp:
     tmp = Path(tmp)

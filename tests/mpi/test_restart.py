@@ -224,6 +224,17 @@ with tempfile.TemporaryDirectory() as tmp:
     same_state(full, half, "stretching rod (ASPH, tensor damage), 2 ranks, restart mid-failure",
                same_index=False)
 
+    # The cap model mid-compaction (saturated): eps_v^p, X, porosity and pore pressure are
+    # checkpointed; the return after the restart starts from the same state.
+    sand = SRC / "decks/sandstone_confined_2d.toml"
+    wet = ["run.resolution=0.5", "material.sandstone.strength.fluid_bulk_modulus=2.2e9"]
+    full, half = tmp / "sand_full", tmp / "sand_half"
+    run(sand, 2, full, ["run.end_time=1e-5", *wet])
+    run(sand, 2, half, ["run.end_time=1e-5", "run.max_steps=300", *wet])
+    run(sand, 2, half, ["run.end_time=1e-5", *wet], restart="latest")
+    same_state(full, half, "confined sandstone (cap, pore fluid), 2 ranks, restart mid-compaction",
+               same_index=False)
+
     # ---- N to M ------------------------------------------------------------------------------
     ckpt = tmp / "half2" / "checkpoints"
     for ranks in (1, 3):

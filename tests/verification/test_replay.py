@@ -14,7 +14,8 @@ which loses a few digits where L dt is small against F (measured 2e-15; the shea
 3e-13 of its own largest value); the pressure comes out
 exact (the same EOS call on the same density and energy). Also: `spall history` returns the
 recorded table; the recording is the same on 1 and 2 ranks and through a restart (text
-identical).
+identical). And a cap particle (confined sandstone under a piston, saturated) replayed to
+round-off, its plastic volumetric strain, porosity and pore pressure too.
 
 usage: test_replay.py SPALL SOURCE_DIR
 """
@@ -96,6 +97,36 @@ with tempfile.TemporaryDirectory() as tmp:
                   f"particle {pid}: replayed stress within {worst:.1e} of the run's (relative, "
                   f"< 1e-11), pressure {'exact' if dp == 0.0 else f'off by {dp:.3g}'}, plastic "
                   f"strain within {deps:.1e} (it reaches {a['plastic_strain'][-1]:.3f})")
+
+    # A cap material under a piston's impact (decks/sandstone_confined_2d.toml, saturated): one
+    # particle by the piston, one in the middle, recorded over 10 us on 2 ranks, replayed with
+    # the run's density (the cap's mean stress is its elastic volume strain). Everything the
+    # return computes (stress, eps_v^p, porosity, pore pressure) must come back to round-off.
+    sand = SRC / "decks" / "sandstone_confined_2d.toml"
+    wet = ["--set", "run.resolution=0.5", "--set",
+           "material.sandstone.strength.fluid_bulk_modulus=2.2e9"]
+    out = tmp / "sand"
+    if spall(["run", sand, "--output", out, "--quiet", "--set", "run.end_time=1e-5", "--set",
+              "output.record_particles=[790, 410]", *wet], 2):
+        for pid in (790, 410):
+            table, state = out / f"particles/particle_{pid}.ftable", out / f"particles/particle_{pid}.csv"
+            replay = tmp / f"sand_{pid}.csv"
+            if not spall(["element", sand, "--material", "sandstone", "--table", table, "--substeps",
+                          "1", "--state", state, "--output", replay, *wet]):
+                continue
+            a, b = read(state), read(replay)
+            comps = ("sxx", "syy", "szz", "sxy", "syz", "sxz")
+            scale = max(np.max(np.abs(a[c])) for c in comps)
+            worst = max(np.max(np.abs(a[c] - b[c])) for c in comps) / scale
+            cols = ("plastic_volumetric_strain", "porosity", "pore_pressure", "cap_position")
+            rel = max(np.max(np.abs(a[c] - b[c])) / max(np.max(np.abs(a[c])), 1e-300)
+                      for c in cols)
+            check(np.array_equal(a["t"], b["t"]) and worst < 1e-11 and rel < 1e-11 and
+                  a["plastic_volumetric_strain"][-1] < -1e-4 and a["pore_pressure"][-1] > 1e6,
+                  f"sandstone particle {pid}: replayed stress within {worst:.1e} of the run's, "
+                  f"cap state within {rel:.1e} (relative, < 1e-11); it compacted to eps_v^p = "
+                  f"{a['plastic_volumetric_strain'][-1]:.2e}, pore pressure "
+                  f"{a['pore_pressure'][-1] / 1e6:.1f} MPa")
 
 if failures:
     print(f"{len(failures)} failure(s)")

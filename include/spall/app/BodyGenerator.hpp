@@ -5,7 +5,7 @@
 // the rank. Reports bodies with no particles and overlapping bodies as deck errors.
 #include "spall/core/ParticleFields.hpp"
 #include "spall/io/Deck.hpp"
-#include "spall/materials/Eos.hpp"
+#include "spall/materials/MaterialUpdate.hpp"
 
 #include <vector>
 
@@ -20,7 +20,8 @@ struct BodySummary {
 
 // Fills the store's owned particles (all of them: the caller distributes).
 template <int Dim>
-std::vector<BodySummary> generateBodies(const Deck& deck, const std::vector<materials::Eos>& eos,
+std::vector<BodySummary> generateBodies(const Deck& deck,
+                                        const std::vector<materials::Material>& materials,
                                         ParticleStore& store, const ParticleFields<Dim>& f);
 
 // Deposits each [[energy_source]] at t = 0, kernel-weighted over the particles within its radius

@@ -20,9 +20,10 @@ struct ElementOptions {
   // with the strength models' Hughes-Winget update a superimposed rotation is then followed
   // exactly. "run" reads a rotation increment dtheta as a strain of -dtheta^2/2.
   std::string kinematics = "run";
-  // A recorded particle's state (particles/particle_ID.csv of a run): its density and energy at
-  // each table row replace rho0/det F and the stress power, so that the EOS sees what the particle
-  // had (one substep a row; the rows' times must be the table's).
+  // A recorded particle's state (particles/particle_ID.csv of a run): at each table row the
+  // material update gets the density and energy the run's update saw, then the state is
+  // re-evaluated at the row's (kick-corrected) density and energy, as a run's step does; so the
+  // material sees what the particle had (one substep a row; the rows' times must be the table's).
   std::string state;
   bool everySubstep = false; // a CSV row per substep, not per table row
   bool overwrite = false;

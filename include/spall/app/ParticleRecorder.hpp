@@ -22,15 +22,17 @@ public:
   // Collective: every id names a particle of the run (else a DeckError at the deck key).
   void check(const ParticleStore& s, const ParticleFields<Dim>& f,
              const parallel::MpiContext& mpi) const;
-  // Rank 0: the files, new, or continued after a restart at `time`.
+  // Rank 0: the files, new, or continued after a restart at `time`. A cap material's state
+  // (plastic volumetric strain, cap position, porosity, pore pressure) is recorded when f has it.
   void open(const std::filesystem::path& dir, bool resumed, double time,
-            const parallel::MpiContext& mpi);
+            const ParticleFields<Dim>& f, const parallel::MpiContext& mpi);
   // Collective: the recorded particles' rows at `time`.
   void write(double time, const ParticleStore& s, const ParticleFields<Dim>& f,
              const parallel::MpiContext& mpi);
 
 private:
   std::vector<std::int64_t> ids_;
+  bool cap_ = false;
   SourceLocation where_;
   std::vector<io::CsvLog> tables_, states_;
 };

@@ -41,10 +41,17 @@ template <int Dim> struct ParticleFields {
   Field<double> damage;
   Field<Tensor<3>> Sintact;
   Field<Tensor<3>> Fdef; // the deformation gradient (Austin 2013, Eq. 4.9), when recorded
+  // With it, the density and energy the step's material update saw (after the drift, before the
+  // kick's correction): what a replay must hand the material (app/ParticleRecorder).
+  Field<double> rhoUpdate, eUpdate;
   Field<std::int32_t> flawCount, flawsActive;
   Field<double> flawScale, flawNext;
   // Owen's tensor damage (mode "tensor"): the damage tensor and the strain history it grows along.
   Field<Tensor<3>> damageTensor, strainTensor;
+
+  // Cap plasticity (a "cap" material): the plastic volumetric strain (the history), and the cap
+  // position X, porosity and pore pressure it means at the particle's density.
+  Field<double> volumetricStrain, capPosition, porosity, porePressure;
 
   // [fragments]: each particle's place in the fragment catalogue of the last snapshot (0: the
   // most massive fragment). Written at snapshots, not checkpointed.
@@ -58,6 +65,7 @@ template <int Dim> struct ParticleFields {
   bool hasStrength() const { return S.valid(); }
   bool hasDamage() const { return damage.valid(); }
   bool hasFlaws() const { return flawCount.valid(); }
+  bool hasCap() const { return volumetricStrain.valid(); }
 
   // What every particle method carries: identity, kinematics, mass, thermodynamic state, and
   // the rates and sums of the SPH step. The neighbor search and the force loop read the first
@@ -111,9 +119,18 @@ template <int Dim> struct ParticleFields {
     damageTensor = s.add<Tensor<3>>("damage_tensor_3x3", kCheckpoint);
     strainTensor = s.add<Tensor<3>>("strain_tensor", kCheckpoint);
   }
+  void registerCap(ParticleStore& s) {
+    constexpr unsigned out = kOutput | kCheckpoint;
+    volumetricStrain = s.add<double>("plastic_volumetric_strain", out);
+    capPosition = s.add<double>("cap_position", out);
+    porosity = s.add<double>("porosity", out);
+    porePressure = s.add<double>("pore_pressure", out);
+  }
   // F_{n+1} = (I + dt L_n) F_n of the owned particles: snapshots ([N,3,3]) and checkpoints.
   void registerDeformationGradient(ParticleStore& s) {
     Fdef = s.add<Tensor<3>>("deformation_gradient", kOutput | kCheckpoint);
+    rhoUpdate = s.add<double>("update_density", kCheckpoint);
+    eUpdate = s.add<double>("update_specific_internal_energy", kCheckpoint);
   }
   // Sent to ghosts on its own, after it is computed (not with the halo).
   void registerKernelCorrection(ParticleStore& s) {

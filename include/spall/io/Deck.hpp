@@ -44,8 +44,13 @@ struct EosConfig {
 
 // strength = {type = ...} (INTERFACE.md; materials/Strength.hpp for the models).
 struct StrengthConfig {
-  std::string type = "none"; // "none" | "elastic" | "von_mises" | "johnson_cook"
+  std::string type = "none"; // "none" | "elastic" | "von_mises" | "johnson_cook" | "cap"
   double shear_modulus = 0.0, yield_stress = 0.0;
+  // cap (materials/CapPlasticity.hpp; INTERFACE.md for the keys)
+  double bulk_modulus = 0.0, peak_i1 = 0.0, f_slope = 0.0, cap_ratio = 0.0;
+  double crush_p0 = 0.0, crush_p1 = 0.0, crush_p3 = 0.0;
+  bool hardening = true;
+  double dilatancy = 1.0, fluid_bulk_modulus = 0.0, initial_pore_pressure = 0.0;
   // johnson_cook
   double A = 0.0, B = 0.0, n = 1.0, C = 0.0, m = 1.0, reference_strain_rate = 1.0;
   double room_temperature = 293.0, melt_temperature = 0.0, specific_heat = 0.0;

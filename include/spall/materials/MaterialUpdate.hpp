@@ -3,10 +3,12 @@
 // driver next): (rho, e, L, dt, history) -> (p, S, cs, history). It runs the stages of a
 // material in order, in one pass: strength (the deviatoric stress over dt, from the velocity
 // gradient), the equation of state, then damage (which degrades what the intact material would
-// carry: materials/Damage.hpp); porosity slots in as a further stage. The
+// carry: materials/Damage.hpp); porosity slots in as a further stage. A cap material
+// (materials/CapPlasticity.hpp) is one stage that owns the whole stress: no EOS. The
 // evaluation without dt advances no history: the EOS-only refresh after a density sum or a
 // correction. A solid carries shear waves too: its signal speed (time step, viscosity) is the
 // longitudinal one, sqrt(cs^2 + 4G/(3 rho)).
+#include "spall/materials/CapPlasticity.hpp"
 #include "spall/materials/Damage.hpp"
 #include "spall/materials/Eos.hpp"
 #include "spall/materials/Strength.hpp"
@@ -24,7 +26,13 @@ struct Material {
   std::optional<Strength> strength;            // none: a fluid
   std::optional<Damage> damage = std::nullopt; // needs strength
   Erosion erosion = Erosion::None;
+  std::optional<CapPlasticity> cap = std::nullopt; // the whole stress: eos and strength unused
 
+  bool solid() const { return strength.has_value() || cap.has_value(); }
+  double shearModulus() const {
+    if (cap) return cap->G;
+    return strength ? std::visit([](const auto& s) { return s.shearModulus(); }, *strength) : 0.0;
+  }
   bool scalesWithDamage() const { return damage && std::holds_alternative<GradyKipp>(*damage); }
   bool tensorDamage() const { return scalesWithDamage() && std::get<GradyKipp>(*damage).tensor; }
   // A fully damaged particle of this material carries no tension (the damaged-pair rule).
@@ -63,6 +71,11 @@ struct MaterialFields {
   std::span<const double> flawScale = {};
   std::span<double> flawNext = {};
   std::span<Tensor<3>> damageTensor = {}, strainTensor = {}; // tensor damage
+  // Cap materials: the plastic volumetric strain (their history), and what it means at the
+  // particle's density: cap position X, porosity, pore pressure. returnIterations (optional: the
+  // single-element driver) receives each update's iteration count.
+  std::span<double> volumetricStrain = {}, capPosition = {}, porosity = {}, porePressure = {};
+  std::span<std::int32_t> returnIterations = {};
 };
 
 class MaterialUpdate {
@@ -80,8 +93,12 @@ public:
   bool anyDamage() const;
   bool anyFlaws() const;
   bool anyTensorDamage() const;
+  bool anyCap() const;
 
 private:
+  void updateCap(const CapPlasticity& cap, std::int32_t id, const MaterialFields& f,
+                 double dt) const;
+  void evaluateCap(const CapPlasticity& cap, std::int32_t id, const MaterialFields& f) const;
   void updateDamaged(const Material& mat, std::int32_t id, const MaterialFields& f,
                      double dt) const;
 

@@ -27,8 +27,8 @@ template <int Dim> struct Generated {
   std::vector<app::BodySummary> bodies;
   explicit Generated(const Deck& deck) {
     f.registerIn(store, {});
-    std::vector<materials::Eos> eos{materials::IdealGas{1.4}};
-    bodies = app::generateBodies<Dim>(deck, eos, store, f);
+    const std::vector<materials::Material> materials{{materials::IdealGas{1.4}, std::nullopt}};
+    bodies = app::generateBodies<Dim>(deck, materials, store, f);
   }
 };
 

@@ -559,8 +559,19 @@ TEST_F(DeckTest, MpmIsNotAvailableYet) {
 }
 
 TEST_F(DeckTest, StrengthModelsNeedTheirParameters) {
-  expectError(withLine(kDeck1D, 15, "strength = { type = \"cap\" }"), 15, 21,
-              "strength type 'cap' arrives with the geomaterials work");
+  expectError(withLine(kDeck1D, 15, "strength = { type = \"cap\", shear_modulus = 1.0e10 }"), 15,
+              12, "missing required key 'bulk_modulus'");
+  // A cap material computes its whole stress: the material's eos (line 14) is an error.
+  expectError(withLine(kDeck1D, 15,
+                       "strength = { type = \"cap\", bulk_modulus = 1e10, shear_modulus = 1e10, "
+                       "peak_i1 = 1e6, f_slope = 0.4, cap_ratio = 5.0, crush_p0 = -1e7, "
+                       "crush_p1 = 1e-10, crush_p3 = 0.1 }"),
+              14, 7, "remove 'eos'");
+  expectError(withLine(kDeck1D, 15,
+                       "strength = { type = \"cap\", bulk_modulus = 1e10, shear_modulus = 1e10, "
+                       "peak_i1 = 1e6, f_slope = 0.4, cap_ratio = 5.0, crush_p0 = 1e7, "
+                       "crush_p1 = 1e-10, crush_p3 = 0.1 }"),
+              15, 129, "'material.copper.strength.crush_p0' must be < 0");
   expectError(withLine(kDeck1D, 15,
                        "strength = { type = \"von_mises\", shear_modulus = 4.5e10, "
                        "yield_stress = -1.0 }"),
@@ -825,9 +836,11 @@ TEST_F(DeckTest, SolidSolverOptionsAreValidated) {
   expectOverrideError(kDeck1D, "solver.contact=sticky", "frictionless");
 }
 
-TEST_F(DeckTest, FixedBodyCannotMove) {
-  // The striker has velocity = [20.0].
-  expectOverrideError(kDeck1D, "body.striker.fixed=true", "held at rest");
+TEST_F(DeckTest, FixedBodyMovesRigidly) {
+  // The striker has velocity = [20.0]: fixed, it is a piston at that speed.
+  const Deck piston = loadDeck(write(kDeck1D), {"body.striker.fixed=true"});
+  EXPECT_TRUE(piston.bodies[0].fixed);
+  EXPECT_DOUBLE_EQ(piston.bodies[0].velocity[0], 20.0);
   const Deck d = loadDeck(write(kDeck1D), {"body.target.fixed=true"});
   EXPECT_TRUE(d.bodies[1].fixed);
   EXPECT_FALSE(d.bodies[0].fixed);
@@ -852,5 +865,5 @@ TEST_F(DeckTest, LinearVelocityTakesADimByDimGradient) {
   const DeckError e =
       error(kDeck1D, {"body.target.linear_velocity={center=[0.0], gradient=[[1.0]]}",
                       "body.target.fixed=true"});
-  EXPECT_NE(std::string(e.what()).find("held at rest"), std::string::npos) << e.what();
+  EXPECT_NE(std::string(e.what()).find("velocity field"), std::string::npos) << e.what();
 }

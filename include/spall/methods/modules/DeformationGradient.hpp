@@ -4,6 +4,8 @@
 // the step, F_{n+1} = (I + dt L_n) F_n (Austin 2013, Eq. 4.9). So L_n = (F_{n+1} F_n^-1 - I)/dt
 // (his Eq. 4.10), what `spall element` hands the material from a recorded F-table: the particle's
 // history replays. F = I at t = 0; checkpointed, and in snapshots as `deformation_gradient`.
+// It also keeps the density and energy the material update sees (the kick corrects both after
+// it): a cap material's plastic return depends on that density, and a replay must use it.
 #include "spall/methods/Module.hpp"
 
 namespace spall::methods {
@@ -15,13 +17,21 @@ public:
   }
   void initialise(ParticleStore& s, const ParticleFields<Dim>& f,
                   const RunStart& /*start*/) const override {
-    for (std::size_t i = 0; i < s.localCount(); ++i) s[f.Fdef][i].setIdentity();
+    for (std::size_t i = 0; i < s.localCount(); ++i) {
+      s[f.Fdef][i].setIdentity();
+      s[f.rhoUpdate][i] = s[f.rho][i];
+      s[f.eUpdate][i] = s[f.e][i];
+    }
   }
   void beforeMaterials(ParticleStore& s, const ParticleFields<Dim>& f, double dt) const override {
     const auto F = s[f.Fdef];
     const auto L = s[f.L];
-    for (std::size_t i = 0; i < s.localCount(); ++i)
+    const auto rho = s[f.rho], e = s[f.e];
+    for (std::size_t i = 0; i < s.localCount(); ++i) {
       F[i] = ((Tensor<3>::Identity() + dt * L[i]) * F[i]).eval();
+      s[f.rhoUpdate][i] = rho[i];
+      s[f.eUpdate][i] = e[i];
+    }
   }
 };
 

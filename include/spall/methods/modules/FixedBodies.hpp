@@ -1,7 +1,8 @@
 #pragma once
-// Bodies with `fixed = true` (a clamp) stay where they are: no acceleration, so the leapfrog
-// keeps their zero velocity and their position. They still carry density, stress and energy,
-// and the forces they exert on the rest are the reaction of the support.
+// Bodies with `fixed = true` have no acceleration: the leapfrog keeps their velocity, zero (a
+// clamp, which stays where it is) or the body's uniform `velocity` (a piston driven at it). They
+// still carry density, stress and energy, and the forces they exert on the rest are the reaction of
+// the support.
 #include "spall/methods/Module.hpp"
 
 #include <algorithm>
