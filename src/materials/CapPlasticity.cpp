@@ -68,23 +68,25 @@ double CapPlasticity::porosity(double epsVp) const {
   return -std::expm1(-(P3 + epsVp));
 }
 
+CapShape CapPlasticity::shape(double I1, double X) const {
+  const double k = kappa(X), Ff = fSlope * (peakI1 - I1);
+  if (I1 >= k) return {Ff, 1.0, -fSlope};
+  const double w = k - X;
+  if (!(w > 0.0)) return {Ff, 0.0, 0.0}; // the cap retracted onto the vertex: a point
+  const double u = (k - I1) / w, Fc = std::sqrt(std::max(0.0, 1.0 - u * u));
+  return {Ff, Fc, -fSlope * Fc * Fc + Ff * u / w};
+}
+
 double CapPlasticity::yieldRadius(double I1, double X) const {
   if (I1 > peakI1 || I1 < X) return 0.0;
-  const double Ff = fSlope * (peakI1 - I1), k = kappa(X);
-  if (I1 >= k) return Ff;
-  const double w = k - X;
-  if (w <= 0.0) return 0.0;
-  const double u = (k - I1) / w;
-  return Ff * std::sqrt(std::max(0.0, 1.0 - u * u));
+  const CapShape c = shape(I1, X);
+  return c.Ff * c.Fc;
 }
 
 double CapPlasticity::yieldSlope(double I1, double X) const {
-  const double k = kappa(X);
-  if (I1 >= k) return -fSlope;
-  const double w = k - X, u = (k - I1) / w;
-  const double Fc = std::sqrt(std::max(0.0, 1.0 - u * u));
-  if (!(Fc > 0.0)) return kInf; // the cap tip: the normal is the hydrostat
-  return -fSlope * Fc + fSlope * (peakI1 - I1) * u / (w * Fc);
+  const CapShape c = shape(I1, X);
+  if (!(c.Fc > 0.0)) return kInf; // the cap tip: the normal is the hydrostat
+  return c.FpFc / c.Fc;
 }
 
 double CapPlasticity::yieldFunction(double I1, double q, double X) const {
@@ -147,23 +149,10 @@ CapStep CapPlasticity::update(const CapState& s, const Mat3& L, double dt, doubl
     } else if (!(qt > 1e-12 * scale)) {
       I1 = I1h; // hydrostatic (up to round-off): the tip
     } else {
-      // F' Fc and h Fc (the signs of F' and h, but finite at the tip): with u = (kappa - I1) /
-      // (kappa - X), F' Fc = -fs Fc^2 + Ff u / (kappa - X).
-      struct Cap {
-        double Ff, Fc, FpFc;
-      };
-      const auto at = [&](double x) {
-        const double X = Xof(x), k = kappa(X);
-        Cap c{fSlope * (peakI1 - x), 1.0, -fSlope};
-        if (x < k) {
-          const double w = k - X, u = (k - x) / w;
-          c.Fc = std::sqrt(std::max(0.0, 1.0 - u * u));
-          c.FpFc = -fSlope * c.Fc * c.Fc + c.Ff * u / w;
-        }
-        return c;
-      };
+      // h Fc: the sign of h, but finite at the tip (shape() gives F' Fc).
+      const auto at = [&](double x) { return shape(x, Xof(x)); };
       const auto h = [&](double x) {
-        const Cap c = at(x);
+        const CapShape c = at(x);
         const double beta = c.FpFc < 0.0 ? dilatancy : 1.0;
         return G * (I1t - x) * c.Fc + 9.0 * K * beta * c.FpFc * (qt - c.Ff * c.Fc);
       };

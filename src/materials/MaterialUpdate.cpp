@@ -35,7 +35,7 @@ void MaterialUpdate::evaluate(const MaterialFields& f) const {
     const double G = mat.shearModulus();
     const auto id = static_cast<std::int32_t>(k);
     if (mat.cap) {
-      evaluateCap(*mat.cap, id, f);
+      capPass(*mat.cap, id, f, false, 0.0);
       continue;
     }
     const bool damage = mat.damage.has_value(), scales = mat.scalesWithDamage();
@@ -68,7 +68,7 @@ void MaterialUpdate::update(const MaterialFields& f, double dt) const {
     const Material& mat = materials_[k];
     const auto id = static_cast<std::int32_t>(k);
     if (mat.cap) {
-      updateCap(*mat.cap, id, f, dt);
+      capPass(*mat.cap, id, f, true, dt);
       continue;
     }
     if (!mat.strength) { // a fluid: the EOS stage alone
@@ -107,33 +107,22 @@ void MaterialUpdate::update(const MaterialFields& f, double dt) const {
   }
 }
 
-// The cap model's state at the particle's density: no history advances.
-void MaterialUpdate::evaluateCap(const CapPlasticity& cap, std::int32_t id,
-                                 const MaterialFields& f) const {
+// A cap material's pass: the return of materials/CapPlasticity.hpp when advancing (dt), then
+// what the state means at the particle's density.
+void MaterialUpdate::capPass(const CapPlasticity& cap, std::int32_t id, const MaterialFields& f,
+                             bool advance, double dt) const {
   for (std::size_t i = 0; i < f.rho.size(); ++i) {
     if (f.material[i] != id) continue;
+    const CapState before{f.S[i], f.plasticStrain[i], f.volumetricStrain[i]};
+    if (advance) {
+      const CapStep step = cap.update(before, f.L[i], dt, f.rho[i]);
+      f.S[i] = step.state.S;
+      f.plasticStrain[i] = step.state.plasticStrain;
+      f.volumetricStrain[i] = step.state.volumetricStrain;
+      if (!f.returnIterations.empty()) f.returnIterations[i] = step.iterations;
+    }
     const CapResponse r =
         cap.respond(f.rho[i], {f.S[i], f.plasticStrain[i], f.volumetricStrain[i]});
-    f.p[i] = r.p;
-    f.cs[i] = r.cs;
-    f.capPosition[i] = r.X;
-    f.porosity[i] = r.phi;
-    f.porePressure[i] = r.pf;
-  }
-}
-
-// The return of materials/CapPlasticity.hpp, then what the new state means at the density.
-void MaterialUpdate::updateCap(const CapPlasticity& cap, std::int32_t id, const MaterialFields& f,
-                               double dt) const {
-  for (std::size_t i = 0; i < f.rho.size(); ++i) {
-    if (f.material[i] != id) continue;
-    const CapStep step =
-        cap.update({f.S[i], f.plasticStrain[i], f.volumetricStrain[i]}, f.L[i], dt, f.rho[i]);
-    f.S[i] = step.state.S;
-    f.plasticStrain[i] = step.state.plasticStrain;
-    f.volumetricStrain[i] = step.state.volumetricStrain;
-    if (!f.returnIterations.empty()) f.returnIterations[i] = step.iterations;
-    const CapResponse r = cap.respond(f.rho[i], step.state);
     f.p[i] = r.p;
     f.cs[i] = r.cs;
     f.capPosition[i] = r.X;

@@ -48,6 +48,12 @@ struct CapResponse {
   double p = 0.0, cs = 0.0, X = 0.0, phi = 0.0, pf = 0.0;
 };
 
+// The surface at I1 for a cap X: Ff, Fc and F' Fc (= -fs Fc^2 + Ff u / (kappa - X), u = (kappa -
+// I1)/(kappa - X)): F' times Fc is finite at the cap tip, where F' is not.
+struct CapShape {
+  double Ff = 0.0, Fc = 1.0, FpFc = 0.0;
+};
+
 struct CapStep {
   CapState state;
   int iterations = 0; // function evaluations of the return (0: elastic or closed form)
@@ -72,6 +78,7 @@ struct CapPlasticity {
   double kappa(double X) const {
     return (X + capRatio * fSlope * peakI1) / (1.0 + capRatio * fSlope);
   }
+  CapShape shape(double I1, double X) const; // I1 in [X, peak_i1]
   // F(I1, X) = Ff Fc: q on the surface (0 outside [X, peak_i1]); dF/dI1 inside (X, peak_i1].
   double yieldRadius(double I1, double X) const;
   double yieldSlope(double I1, double X) const;

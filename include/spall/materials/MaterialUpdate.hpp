@@ -96,9 +96,8 @@ public:
   bool anyCap() const;
 
 private:
-  void updateCap(const CapPlasticity& cap, std::int32_t id, const MaterialFields& f,
-                 double dt) const;
-  void evaluateCap(const CapPlasticity& cap, std::int32_t id, const MaterialFields& f) const;
+  void capPass(const CapPlasticity& cap, std::int32_t id, const MaterialFields& f, bool advance,
+               double dt) const;
   void updateDamaged(const Material& mat, std::int32_t id, const MaterialFields& f,
                      double dt) const;
 
