@@ -305,9 +305,11 @@ std::vector<BodySummary> generateBodies(const Deck& deck,
   for (std::size_t b = 0; b < deck.bodies.size(); ++b) {
     const BodyConfig& body = deck.bodies[b];
     const MaterialConfig& material = deck.materials[static_cast<std::size_t>(body.material_index)];
-    double rho0 = body.initial_density.value_or(material.density);
-    double e0 = body.initial_specific_energy.value_or(0.0);
     const materials::Material& model = materials[static_cast<std::size_t>(body.material_index)];
+    // A porous material's density is its matrix's: the body starts at distension alpha0.
+    const double alpha0 = model.porosity ? model.porosity->alpha0 : 1.0;
+    double rho0 = body.initial_density.value_or(material.density / alpha0);
+    double e0 = body.initial_specific_energy.value_or(0.0);
     if (body.initial_pressure && model.cap) {
       // A cap material's pressure is its elastic strain's: the start density carries it.
       if (body.initial_density)
@@ -324,8 +326,16 @@ std::vector<BodySummary> generateBodies(const Deck& deck,
                                     body.name, *body.initial_pressure, material.name));
       rho0 = *rho;
     } else if (body.initial_pressure) {
+      // With elastic distension the pressure has closed pores already: alpha = alpha0 + a P0
+      // (materials/Porosity.hpp, Eq. 2), which the first evaluation finds again.
+      const double P0 = *body.initial_pressure;
+      const double alpha = model.porosity && model.porosity->elastic()
+                               ? alpha0 + model.porosity->elasticSlope(alpha0) * P0
+                               : alpha0;
       const auto ep = std::visit(
-          [&](const auto& eos) { return eos.energyForPressure(rho0, *body.initial_pressure); },
+          [&](const auto& eos) { // P = P_eos(alpha rho, e) / alpha
+            return eos.energyForPressure(alpha * rho0, alpha * P0);
+          },
           model.eos);
       if (!ep) {
         throw DeckError(body.where,

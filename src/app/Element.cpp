@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fmt/format.h>
 #include <fmt/os.h>
@@ -44,7 +45,21 @@ Tensor<3> polarRotation(const Tensor<3>& F) {
 // update saw (before the kick's correction; recordings without them: the same).
 struct RecordedRow {
   double rho = 0.0, e = 0.0, rhoUpdate = 0.0, eUpdate = 0.0;
+  double alpha = 0.0;  // a porous material's distension (0: not recorded)
+  double alphaP = 0.0; // its plastic part, with elastic distension (0: not recorded)
+  // Scalar flaws as the run drew them, and the damage (NaN: not recorded)
+  double flawCount = NAN, flawsActive = NAN, flawScale = NAN, flawNext = NAN, damage = NAN;
+  // The state a replay starts from (a recording that starts mid-run: a failed run's replay),
+  // NaN where not recorded: the deviatoric stress (intact: a damaged material's), plastic
+  // strain, temperature, a cap's plastic volumetric strain.
+  Tensor<3> S = Tensor<3>::Constant(NAN), Sintact = Tensor<3>::Constant(NAN);
+  double plastic = NAN, temperature = NAN, epsVp = NAN;
+  double id = NAN; // the particle's id: the run drew its flaws from it
+  Tensor<3> damageTensor = Tensor<3>::Constant(NAN), strainTensor = Tensor<3>::Constant(NAN);
 };
+
+// Voigt order of the stress columns: xx yy zz xy yz xz.
+constexpr int kVoigt[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {1, 2}, {0, 2}};
 
 // The rows of a recorded state, one a table row.
 std::vector<RecordedRow> readState(const std::string& path, const io::FTable& table) {
@@ -70,6 +85,11 @@ std::vector<RecordedRow> readState(const std::string& path, const io::FTable& ta
                     ce = column("specific_internal_energy");
   const std::size_t cru = find("update_density"), ceu = find("update_specific_internal_energy");
   const bool update = cru < names.size() && ceu < names.size();
+  const std::size_t calpha = find("porosity_alpha");
+  const auto optional = [&](const std::vector<double>& v, const char* name) {
+    const std::size_t c = find(name);
+    return c < names.size() ? v[c] : NAN;
+  };
   std::vector<RecordedRow> out;
   int lineNo = 1;
   while (std::getline(in, line)) {
@@ -81,16 +101,43 @@ std::vector<RecordedRow> readState(const std::string& path, const io::FTable& ta
     const std::size_t k = out.size();
     if (v.size() != names.size() || k >= table.rows.size() || v[ct] != table.rows[k].t)
       throw DeckError({path, lineNo, 0}, "the state's rows must be the F-table's, time for time");
-    out.push_back({v[crho], v[ce], update ? v[cru] : v[crho], update ? v[ceu] : v[ce]});
+    RecordedRow row{
+        v[crho],
+        v[ce],
+        update ? v[cru] : v[crho],
+        update ? v[ceu] : v[ce],
+        calpha < names.size() ? v[calpha] : 0.0,
+        std::isnan(optional(v, "plastic_distension")) ? 0.0 : optional(v, "plastic_distension"),
+        optional(v, "flaw_count"),
+        optional(v, "flaws_active"),
+        optional(v, "flaw_strain_scale"),
+        optional(v, "next_flaw_strain"),
+        optional(v, "damage")};
+    const auto tensor = [&](const std::string& prefix, Tensor<3>& T) {
+      static constexpr const char* kAxes[6] = {"xx", "yy", "zz", "xy", "yz", "xz"};
+      for (int c = 0; c < 6; ++c) {
+        const double x = optional(v, (prefix + kAxes[c]).c_str());
+        T(kVoigt[c][0], kVoigt[c][1]) = T(kVoigt[c][1], kVoigt[c][0]) = x;
+      }
+    };
+    tensor("S", row.S);
+    tensor("intact_S", row.Sintact);
+    row.plastic = optional(v, "plastic_strain"), row.temperature = optional(v, "temperature");
+    row.epsVp = optional(v, "plastic_volumetric_strain");
+    row.id = optional(v, "id");
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) {
+        const std::string ab = fmt::format("_{}{}", a + 1, b + 1);
+        row.damageTensor(a, b) = optional(v, ("damage_tensor" + ab).c_str());
+        row.strainTensor(a, b) = optional(v, ("strain_tensor" + ab).c_str());
+      }
+    out.push_back(row);
   }
   if (out.size() != table.rows.size())
     throw DeckError({path, lineNo, 0}, fmt::format("the state has {} rows, the F-table {}",
                                                    out.size(), table.rows.size()));
   return out;
 }
-
-// Voigt order of the stress columns: xx yy zz xy yz xz.
-constexpr int kVoigt[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {1, 2}, {0, 2}};
 
 } // namespace
 
@@ -124,13 +171,15 @@ void runElement(const ElementOptions& o) {
   const materials::Material mat = buildMaterials(deck)[k];
   const materials::MaterialUpdate update({mat}, deck.run.seed);
   const bool strength = mat.strength.has_value(), damage = mat.damage.has_value();
-  const bool cap = mat.cap.has_value();
+  const bool cap = mat.cap.has_value(), porous = mat.porosity.has_value();
   const bool flaws = mat.scalesWithDamage(), tensor = mat.tensorDamage();
 
   // The particle: every field the material update reads or writes, one row each. It starts
   // without deviatoric stress at the table's first F (density rho0 / det F, which sets a cap
-  // material's mean stress), with no internal energy.
-  const double rho0 = cfg.density;
+  // material's mean stress), with no internal energy; a porous one at alpha0 (bulk density
+  // rho0 = density / alpha0).
+  const double alpha0 = porous ? mat.porosity->alpha0 : 1.0;
+  const double rho0 = cfg.density / alpha0;
   std::vector<double> rho{rho0 / totalF(table, 0, 0.0).determinant()}, e{0.0}, p{0.0}, cs{0.0};
   if (!recorded.empty()) rho[0] = recorded[0].rho, e[0] = recorded[0].e;
   std::vector<double> plastic{0.0},
@@ -139,13 +188,43 @@ void runElement(const ElementOptions& o) {
   std::vector<std::int32_t> material{0}, flawCount{0}, flawsActive{0};
   std::vector<Tensor<3>> L{Tensor<3>::Zero()}, S{Tensor<3>::Zero()}, Sintact{Tensor<3>::Zero()};
   std::vector<Tensor<3>> damageTensor{Tensor<3>::Zero()}, strainTensor{Tensor<3>::Zero()};
+  // A recorded particle's id: flaws past those active at the first row are drawn from it.
   std::vector<ParticleId> id{0};
+  if (!recorded.empty() && recorded[0].id >= 0.0) id[0] = static_cast<ParticleId>(recorded[0].id);
   std::vector<double> epsVp{0.0}, X{0.0}, phi{0.0}, pf{0.0};
   std::vector<std::int32_t> iterations{0};
+  std::vector<double> alpha{alpha0};
+  if (porous && !recorded.empty() && recorded[0].alpha > 0.0) alpha[0] = recorded[0].alpha;
+  const bool elastic = porous && mat.porosity->elastic();
+  std::vector<double> alphaP{alpha[0]};
+  if (elastic && !recorded.empty() && recorded[0].alphaP > 0.0) alphaP[0] = recorded[0].alphaP;
+  if (porous) phi[0] = 1.0 - 1.0 / alpha[0];
   if (flaws) {
     const auto set = materials::drawFlaws(std::get<materials::GradyKipp>(*mat.damage),
                                           deck.run.seed, 0, o.flawVolume, 1);
     flawCount[0] = set.count, flawScale[0] = set.scale, flawNext[0] = set.first;
+    // A recorded particle: the run's own draw (its id and volume), and where it stood.
+    const RecordedRow* r0 = recorded.empty() ? nullptr : &recorded[0];
+    if (r0 && !std::isnan(r0->flawCount) && !std::isnan(r0->flawScale)) {
+      flawCount[0] = static_cast<std::int32_t>(r0->flawCount);
+      flawsActive[0] = static_cast<std::int32_t>(r0->flawsActive);
+      flawScale[0] = r0->flawScale, flawNext[0] = r0->flawNext;
+    }
+  }
+  if (damage && !recorded.empty() && !std::isnan(recorded[0].damage)) D[0] = recorded[0].damage;
+  if (!recorded.empty()) { // where the recording starts (mid-run: not the initial state)
+    const RecordedRow& r0 = recorded[0];
+    const auto take = [](double& x, double recordedValue) {
+      if (!std::isnan(recordedValue)) x = recordedValue;
+    };
+    if (strength || cap) {
+      if (r0.S.allFinite()) S[0] = r0.S;
+      if (r0.Sintact.allFinite()) Sintact[0] = r0.Sintact;
+      take(plastic[0], r0.plastic), take(temperature[0], r0.temperature);
+    }
+    if (cap) take(epsVp[0], r0.epsVp); // X, porosity and pore pressure follow from it
+    if (tensor && r0.damageTensor.allFinite() && r0.strainTensor.allFinite())
+      damageTensor[0] = r0.damageTensor, strainTensor[0] = r0.strainTensor;
   }
   materials::MaterialFields f{rho, e, material, p, cs, L, S, plastic, temperature};
   if (damage) f.id = id, f.damage = D, f.Sintact = Sintact;
@@ -156,10 +235,13 @@ void runElement(const ElementOptions& o) {
   if (cap)
     f.volumetricStrain = epsVp, f.capPosition = X, f.porosity = phi, f.porePressure = pf,
     f.returnIterations = iterations;
+  if (porous) f.alpha = alpha, f.porosity = phi, f.returnIterations = iterations;
+  if (elastic) f.alphaPlastic = alphaP;
   update.evaluate(f);
 
   // Written to a side file and renamed when complete: a failed drive leaves no partial CSV.
   const std::string partial = o.output + ".part";
+  std::string failed; // the material failed (non-finite): the rows before it are kept
   {
     auto out = fmt::output_file(partial);
     std::string header = "t";
@@ -174,6 +256,8 @@ void runElement(const ElementOptions& o) {
     if (cap)
       header += ",plastic_strain,plastic_volumetric_strain,cap_position,porosity,pore_pressure,"
                 "return_iterations";
+    if (porous) header += ",porosity_alpha,porosity,return_iterations";
+    if (elastic) header += ",plastic_distension";
     if (damage) header += ",damage";
     out.print("{}\n", header);
     const auto row = [&](double t, const Tensor<3>& F) {
@@ -190,11 +274,13 @@ void runElement(const ElementOptions& o) {
       if (cap)
         line += fmt::format(",{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{}", plastic[0], epsVp[0],
                             X[0], phi[0], pf[0], iterations[0]);
+      if (porous) line += fmt::format(",{:.17g},{:.17g},{}", alpha[0], phi[0], iterations[0]);
+      if (elastic) line += fmt::format(",{:.17g}", alphaP[0]);
       if (damage) line += fmt::format(",{:.17g}", D[0]);
       out.print("{}\n", line);
     };
     row(table.rows[0].t, totalF(table, 0, 0.0));
-    for (std::size_t r = 0; r + 1 < table.rows.size(); ++r) {
+    for (std::size_t r = 0; r + 1 < table.rows.size() && failed.empty(); ++r) {
       const double t0 = table.rows[r].t, span = table.rows[r + 1].t - t0;
       const double dt = span / o.substeps;
       Tensor<3> Fa = totalF(table, r, 0.0);
@@ -220,16 +306,19 @@ void runElement(const ElementOptions& o) {
           update.evaluate(f);
         }
         const double t = t0 + span * s / o.substeps;
-        if (!S[0].allFinite() || !std::isfinite(p[0]) || !std::isfinite(e[0]))
-          throw RunError(fmt::format("element: non-finite stress at t = {:.9g} (between the "
-                                     "rows on lines {} and {} of {})",
-                                     t, table.rows[r].line, table.rows[r + 1].line, o.table));
+        if (!S[0].allFinite() || !std::isfinite(p[0]) || !std::isfinite(e[0])) {
+          failed = fmt::format("element: non-finite stress at t = {:.9g} (between the rows on "
+                               "lines {} and {} of {}); the rows before it are in {}",
+                               t, table.rows[r].line, table.rows[r + 1].line, o.table, o.output);
+          break;
+        }
         if (o.everySubstep || s == o.substeps) row(s == o.substeps ? table.rows[r + 1].t : t, Fb);
         Fa = Fb;
       }
     }
   }
   fs::rename(partial, o.output);
+  if (!failed.empty()) throw RunError(failed);
 }
 
 } // namespace spall::app

@@ -1,5 +1,7 @@
 #include "Simulation.hpp"
 
+#include "spall/methods/modules/DeformationGradient.hpp"
+
 #include <algorithm>
 #include <fmt/format.h>
 #include <fstream>
@@ -29,6 +31,8 @@ template <int Dim> void Simulation<Dim>::keepRescuePoint(double dtNext, Clock::t
 // Collective. Rewinds to the rescue point and steps again to the failure (the steps are
 // deterministic: the same particles bit for bit), sampling the failing particle each step and
 // writing a checkpoint of the last good state on the way; then throws the explaining RunError.
+// A solid's failing particle is also recorded as `output.record_particles` would (its F-table
+// from the rescue point, and its state), so that `spall element --state` replays what it saw.
 template <int Dim>
 void Simulation<Dim>::explainFailure(const StepFailure& failure, Clock::time_point wall0) {
   const ParticleReport& f = failure.fault();
@@ -47,6 +51,11 @@ void Simulation<Dim>::explainFailure(const StepFailure& failure, Clock::time_poi
     for (int d = 0; d < Dim; ++d) row += fmt::format(",{:.17g}", s.v[static_cast<std::size_t>(d)]);
     rows.push_back(row + fmt::format(",{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{}", s.rho, s.h, s.p,
                                      s.cs, s.e, s.neighbors));
+  };
+  const std::string stem = fmt::format("failure_step{}_particle{}", f.step, f.id);
+  std::unique_ptr<ParticleRecorder<Dim>> recorder;
+  const auto record = [&](double time) {
+    if (recorder) recorder->write(time, store_, f_, mpi_);
   };
   std::int64_t checkpointStep = -1;
   const auto checkpointOnce = [&](double dtNext) {
@@ -69,6 +78,24 @@ void Simulation<Dim>::explainFailure(const StepFailure& failure, Clock::time_poi
     wallOffset_ = wallOffset;
     double dt = rescue_.state.real("dt");
     sample(step_, time_, std::numeric_limits<double>::quiet_NaN());
+    // A restart that meets the failure again keeps the first run's (longer) recording.
+    const bool recorded =
+        mpi_.max(mpi_.root() && fs::exists(dir_ / (stem + ".ftable")) ? 1.0 : 0.0) > 0.0;
+    if (f_.L.valid() && f.material >= 0 && !recorded) {
+      if (!f_.Fdef.valid()) { // F = I at the rescue point: the table is relative to it
+        f_.registerDeformationGradient(store_, true);
+        auto F = std::make_unique<methods::DeformationGradient<Dim>>(true);
+        method_->addModule(std::move(F));
+        for (std::size_t i = 0; i < store_.localCount(); ++i) {
+          store_[f_.Fdef][i].setIdentity();
+          store_[f_.rhoUpdate][i] = store_[f_.rho][i];
+          store_[f_.eUpdate][i] = store_[f_.e][i];
+        }
+      }
+      recorder = std::make_unique<ParticleRecorder<Dim>>(f.id, stem);
+      recorder->open(dir_, false, time_, store_, f_, mpi_);
+      record(time_);
+    }
     while (step_ < f.step) {
       checkpointOnce(dt);
       const double dtTaken = clampToTargets(dt);
@@ -77,10 +104,13 @@ void Simulation<Dim>::explainFailure(const StepFailure& failure, Clock::time_poi
       } catch (const StepFailure& again) {
         // As before (the steps are deterministic): the same particle, the same step.
         sample(again.fault().step, again.fault().time, dtTaken);
+        record(again.fault().time);
         break;
       }
       sample(step_, time_, dtTaken);
+      record(time_);
     }
+    recorder.reset(); // the files complete
   } else if (!nonFinite) {
     // No copy to replay from (failure_history = 0, or the very first step): the state it has.
     checkpoint(f.dt, wall0);
@@ -131,6 +161,12 @@ void Simulation<Dim>::explainFailure(const StepFailure& failure, Clock::time_poi
     text += fmt::format("\n  its history (position, velocity, density, h, pressure, neighbors) "
                         "over the last steps: {}",
                         (dir_ / historyFile).string());
+  if (fs::exists(dir_ / (stem + ".ftable")))
+    text += fmt::format(
+        "\n  its F-table over the last steps: {0}.ftable; its material alone replays them: spall "
+        "element {1} --material {2} --table {0}.ftable --state {0}_state.csv --substeps 1 "
+        "--output {0}_replay.csv",
+        (dir_ / stem).string(), (dir_ / "deck.toml").string(), material.name);
   // What usually causes it, judged from the particle.
   if (compression > 10.0 || hRatio < 0.1)
     text += "\n  hint: compressed beyond any shock state (a shock compresses ~4-6x): particles "

@@ -8,10 +8,12 @@
 #include "spall/methods/modules/FrictionlessContact.hpp"
 #include "spall/methods/modules/Hydro.hpp"
 #include "spall/methods/modules/KernelCorrection.hpp"
+#include "spall/methods/modules/PAlpha.hpp"
 #include "spall/methods/modules/SmoothingTensor.hpp"
 #include "spall/methods/modules/Strength.hpp"
 
 #include <algorithm>
+#include <fmt/format.h>
 
 namespace spall::app {
 
@@ -78,6 +80,54 @@ std::optional<materials::CapPlasticity> buildCap(const MaterialConfig& m) {
   return cap;
 }
 
+std::optional<materials::PAlpha> buildPorosity(const MaterialConfig& mc,
+                                               const materials::Eos& eos) {
+  const PorosityConfig& c = mc.porosity;
+  if (c.type != "p_alpha") return std::nullopt;
+  materials::PAlpha m;
+  if (c.elastic_sound_speed > 0.0) { // Herrmann's elastic distension (materials/Porosity.hpp)
+    m.cs0 = std::visit([&](const auto& e) { return e.evaluate(mc.density, 0.0).cs; }, eos);
+    m.Ks = mc.density * m.cs0 * m.cs0;
+    if (!(c.elastic_sound_speed < m.cs0))
+      throw DeckError(c.soundSpeedWhere,
+                      fmt::format("'elastic_sound_speed' must be below the sound speed of the "
+                                  "matrix ({:.6g} m/s from its eos at density {:.6g} kg/m^3): "
+                                  "pores make a material softer, got {:.6g}",
+                                  m.cs0, mc.density, c.elastic_sound_speed));
+    m.ce = c.elastic_sound_speed;
+  }
+  m.alpha0 = c.alpha0;
+  m.Pe = c.elastic_pressure;
+  m.Ps = c.solid_pressure;
+  m.n = c.exponent;
+  m.twoStage = c.transition_pressure.has_value();
+  if (m.twoStage) {
+    m.Pt = *c.transition_pressure;
+    m.alphaT = *c.alpha_transition;
+    m.nT = *c.exponent_transition;
+  }
+  // On the crush curve alpha = alpha_p + a(alpha_p) P_c(alpha_p) must stay above 1 and rise with
+  // alpha_p, else the elastic part closes more pores than the plastic state leaves (alpha0 near 1
+  // with a c_e far below c_s0 and a high solid_pressure).
+  if (m.elastic()) {
+    double before = 1.0;
+    for (int k = 1; k <= 400; ++k) {
+      const double x = 1.0 + (m.alpha0 - 1.0) * k / 400.0;
+      const double alpha = x + m.elasticSlope(x) * m.crushPressure(x);
+      if (!(alpha > before))
+        throw DeckError(c.soundSpeedWhere,
+                        fmt::format("'elastic_sound_speed' {:.6g} m/s is too low for this crush "
+                                    "curve: at alpha_p = {:.6g} the elastic distension at the "
+                                    "crush pressure ({:.6g} Pa) would close more pores than the "
+                                    "plastic state leaves (alpha {:.6g}); raise it, or lower "
+                                    "solid_pressure",
+                                    m.ce, x, m.crushPressure(x), alpha));
+      before = alpha;
+    }
+  }
+  return m;
+}
+
 materials::Erosion erosionOf(const std::string& name) {
   if (name == "no_tension") return materials::Erosion::NoTension;
   if (name == "no_shear") return materials::Erosion::NoShear;
@@ -92,8 +142,8 @@ std::vector<materials::Material> buildMaterials(const Deck& deck) {
   for (const auto& m : deck.materials) {
     // A cap material has no eos (DeckMaterial.cpp): its placeholder is never evaluated.
     const materials::Eos eos = m.strength.type == "cap" ? materials::Eos{} : buildEos(m);
-    out.push_back(
-        {eos, buildStrength(m.strength), buildDamage(m.damage), erosionOf(m.erosion), buildCap(m)});
+    out.push_back({eos, buildStrength(m.strength), buildDamage(m.damage), erosionOf(m.erosion),
+                   buildCap(m), buildPorosity(m, eos)});
   }
   return out;
 }
@@ -139,6 +189,17 @@ std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck
   if (std::any_of(deck.materials.begin(), deck.materials.end(),
                   [](const auto& m) { return m.strength.type == "cap"; }))
     list.push_back(std::make_unique<methods::CapPlasticity<Dim>>());
+  if (std::any_of(deck.materials.begin(), deck.materials.end(),
+                  [](const auto& m) { return m.porosity.type != "none"; })) {
+    std::vector<double> alpha0;
+    for (const auto& m : deck.materials)
+      alpha0.push_back(m.porosity.type != "none" ? m.porosity.alpha0 : 1.0);
+    const bool elastic =
+        std::any_of(deck.materials.begin(), deck.materials.end(), [](const auto& m) {
+          return m.porosity.type != "none" && m.porosity.elastic_sound_speed > 0.0;
+        });
+    list.push_back(std::make_unique<methods::PAlpha<Dim>>(alpha0, elastic));
+  }
   if (solids && solver.velocity_gradient == VelocityGradient::Corrected)
     list.push_back(std::make_unique<methods::KernelCorrection<Dim>>());
   if (solver.method == "asph") list.push_back(std::make_unique<methods::SmoothingTensor<Dim>>());

@@ -262,7 +262,7 @@ template <int Dim> void Simulation<Dim>::run(const RunOptions& options, const fs
   dir_ = dir;
   const bool resumed = !resumedFrom_.empty();
   openLogs(dir, resumed, log);
-  if (recorder_) recorder_->open(dir, resumed, time_, f_, mpi_);
+  if (recorder_) recorder_->open(dir, resumed, time_, store_, f_, mpi_);
   if (resumed)
     log.note(fmt::format(
         "restarted from {} at step {} (t = {:.6g} s){}; {:.1f} MB read in {:.2f} s", resumedFrom_,

@@ -1,6 +1,8 @@
 // The [[material]] tables: equation of state, strength, damage and erosion (materials/).
 #include "DeckDetail.hpp"
 
+#include <algorithm>
+
 namespace spall::io::deck_detail {
 
 namespace {
@@ -144,11 +146,57 @@ void readDamage(const TableReader& r, DamageConfig& c) {
   }
 }
 
+// porosity = {type = "p_alpha", ...}: the crush curve of materials/Porosity.hpp.
+void readPorosity(const TableReader& r, PorosityConfig& c) {
+  c.where = r.where();
+  c.type = r.choice("type", typeNames("material.porosity"), std::nullopt);
+  allowTypedKeys(r, "material.porosity", c.type, "porosity type");
+  const auto need = [&](std::string_view key) { return r.required(r.number(key), key); };
+  c.alpha0 = need("alpha0");
+  r.check(c.alpha0 >= 1.0, "alpha0", ">= 1 (the distension: solid over bulk density)", c.alpha0);
+  c.elastic_pressure = need("elastic_pressure");
+  r.check(c.elastic_pressure >= 0.0, "elastic_pressure", ">= 0", c.elastic_pressure);
+  c.solid_pressure = need("solid_pressure");
+  r.check(c.solid_pressure > c.elastic_pressure, "solid_pressure",
+          "> elastic_pressure (" + formatNumber(c.elastic_pressure) + ")", c.solid_pressure);
+  c.exponent = r.number("exponent").value_or(c.exponent);
+  r.check(c.exponent > 0.0, "exponent", "> 0", c.exponent);
+  c.transition_pressure = r.number("transition_pressure");
+  c.alpha_transition = r.number("alpha_transition");
+  c.exponent_transition = r.number("exponent_transition");
+  const int given = int(c.transition_pressure.has_value()) + int(c.alpha_transition.has_value()) +
+                    int(c.exponent_transition.has_value());
+  if (given > 0 && given < 3) { // point at a key that is there, name the one that is not
+    const Names keys{"transition_pressure", "alpha_transition", "exponent_transition"};
+    const auto there = *std::find_if(keys.begin(), keys.end(), [&](auto k) { return r.has(k); });
+    const auto absent = *std::find_if(keys.begin(), keys.end(), [&](auto k) { return !r.has(k); });
+    r.fail(there, "a two-stage crush curve in " + r.context().human +
+                      " needs transition_pressure, alpha_transition and exponent_transition; '" +
+                      std::string(absent) + "' is missing");
+  }
+  if (given == 3) {
+    const double Pt = *c.transition_pressure, at = *c.alpha_transition;
+    r.check(Pt > c.elastic_pressure && Pt < c.solid_pressure, "transition_pressure",
+            "between elastic_pressure and solid_pressure", Pt);
+    r.check(at > 1.0 && at < c.alpha0, "alpha_transition",
+            "in (1, alpha0 (" + formatNumber(c.alpha0) + ")): strictly between, each stage crushes",
+            at);
+    r.check(*c.exponent_transition > 0.0, "exponent_transition", "> 0", *c.exponent_transition);
+  }
+  // Checked against the matrix's sound speed where the EOS is built (app/Setup.cpp).
+  if (const auto ce = r.number("elastic_sound_speed")) {
+    r.check(*ce > 0.0, "elastic_sound_speed", "> 0 (m/s)", *ce);
+    if (c.alpha0 <= 1.0)
+      r.fail("elastic_sound_speed", "elastic_sound_speed is the speed of the porous material at "
+                                    "alpha0, and alpha0 = 1 is not porous");
+    c.elastic_sound_speed = *ce;
+    c.soundSpeedWhere = r.whereValue("elastic_sound_speed");
+  }
+}
+
 } // namespace
 
 void readMaterial(const TableReader& r, MaterialConfig& m) {
-  if (r.has("porosity"))
-    r.fail("porosity", "'porosity' in " + r.context().human + " is not available yet");
   r.allowOnly(*schemaKeys("material"));
   m.where = r.where();
   m.density = r.required(r.number("density"), "density");
@@ -163,6 +211,10 @@ void readMaterial(const TableReader& r, MaterialConfig& m) {
       r.fail("eos", "a 'cap' material computes its whole stress, pressure included, from its own "
                     "bulk_modulus and plasticity: remove 'eos' from " +
                         r.context().human);
+    if (r.has("porosity"))
+      r.fail("porosity", "a 'cap' material carries its own porosity (crush curve and pore "
+                         "fluid): remove 'porosity' from " +
+                             r.context().human);
     if (r.has("damage"))
       r.fail("damage", "damage of a 'cap' material is not available yet (its cap retracts as it "
                        "dilates: the model's own softening)");
@@ -183,6 +235,8 @@ void readMaterial(const TableReader& r, MaterialConfig& m) {
   } else if (r.has("damage")) {
     r.fail("damage", "damage must be a table, e.g. {type = \"grady_kipp\", ...}");
   }
+  if (const toml::table* t = r.subtable("porosity"))
+    readPorosity(child(r, *t, r.context().child("porosity")), m.porosity);
   m.erosion = r.choice("erosion", {"none", "no_tension", "no_shear", "zero_stress"}, "none");
   if (r.has("erosion") && m.damage.type == "none")
     r.fail("erosion", "erosion says what a fully damaged particle carries, and " +

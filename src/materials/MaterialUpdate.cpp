@@ -6,6 +6,33 @@
 
 namespace spall::materials {
 
+namespace {
+
+// The EOS stage of a material's particles: its EOS, or the P-alpha porous material around it,
+// compacting (advance) or at the particle's distension (the pass that advances no history).
+template <class E> struct EosStage {
+  const E& eos;
+  const std::optional<PAlpha>& porosity;
+  const MaterialFields& f;
+  bool advance;
+
+  EosState operator()(std::size_t i) const {
+    if (!porosity) return eos.evaluate(f.rho[i], f.e[i]);
+    const bool elastic = porosity->elastic();
+    const PorousState s = advance ? compact(*porosity, eos, f.rho[i], f.e[i],
+                                            elastic ? f.alphaPlastic[i] : f.alpha[i])
+                                  : porousState(*porosity, eos, f.rho[i], f.e[i], f.alpha[i],
+                                                elastic ? f.alphaPlastic[i] : f.alpha[i]);
+    f.alpha[i] = s.alpha;
+    if (advance && elastic) f.alphaPlastic[i] = s.alphaP;
+    f.porosity[i] = 1.0 - 1.0 / s.alpha;
+    if (advance && !f.returnIterations.empty()) f.returnIterations[i] = s.iterations;
+    return {s.p, s.cs};
+  }
+};
+
+} // namespace
+
 bool MaterialUpdate::anyDamage() const {
   return std::any_of(materials_.begin(), materials_.end(),
                      [](const Material& m) { return m.damage.has_value(); });
@@ -14,6 +41,11 @@ bool MaterialUpdate::anyDamage() const {
 bool MaterialUpdate::anyFlaws() const {
   return std::any_of(materials_.begin(), materials_.end(),
                      [](const Material& m) { return m.scalesWithDamage(); });
+}
+
+bool MaterialUpdate::anyPorosity() const {
+  return std::any_of(materials_.begin(), materials_.end(),
+                     [](const Material& m) { return m.porosity.has_value(); });
 }
 
 bool MaterialUpdate::anyCap() const {
@@ -42,10 +74,11 @@ void MaterialUpdate::evaluate(const MaterialFields& f) const {
     const bool tensorMode = mat.tensorDamage();
     std::visit(
         [&](const auto& eos) {
+          const EosStage<std::decay_t<decltype(eos)>> stage{eos, mat.porosity, f, false};
           for (std::size_t i = 0; i < n; ++i) {
             if (f.material[i] != id) continue;
-            const MaterialResponse r = evaluateEos(eos, G, f.rho[i], f.e[i]);
-            f.cs[i] = r.cs;
+            const EosState r = stage(i);
+            f.cs[i] = longitudinal(r.cs, G, f.rho[i]);
             if (tensorMode) { // which principal stresses are tensile depends on p: S follows
               const DamagedStress c = degrade(degradeTensor(r.p, f.Sintact[i], f.damageTensor[i]),
                                               f.damage[i], mat.erosion);
@@ -74,9 +107,10 @@ void MaterialUpdate::update(const MaterialFields& f, double dt) const {
     if (!mat.strength) { // a fluid: the EOS stage alone
       std::visit(
           [&](const auto& eos) {
+            const EosStage<std::decay_t<decltype(eos)>> stage{eos, mat.porosity, f, true};
             for (std::size_t i = 0; i < n; ++i) {
               if (f.material[i] != id) continue;
-              const MaterialResponse r = evaluateEos(eos, 0.0, f.rho[i], f.e[i]);
+              const EosState r = stage(i);
               f.p[i] = r.p;
               f.cs[i] = r.cs;
             }
@@ -91,6 +125,7 @@ void MaterialUpdate::update(const MaterialFields& f, double dt) const {
     std::visit(
         [&](const auto& eos, const auto& strength) {
           const double G = strength.shearModulus();
+          const EosStage<std::decay_t<decltype(eos)>> stage{eos, mat.porosity, f, true};
           for (std::size_t i = 0; i < n; ++i) {
             if (f.material[i] != id) continue;
             const StrengthState next = strength.update(
@@ -98,9 +133,9 @@ void MaterialUpdate::update(const MaterialFields& f, double dt) const {
             f.S[i] = next.S;
             f.plasticStrain[i] = next.plasticStrain;
             f.temperature[i] = next.temperature;
-            const MaterialResponse r = evaluateEos(eos, G, f.rho[i], f.e[i]);
+            const EosState r = stage(i);
             f.p[i] = r.p;
-            f.cs[i] = r.cs;
+            f.cs[i] = longitudinal(r.cs, G, f.rho[i]);
           }
         },
         mat.eos, *mat.strength);
@@ -144,14 +179,15 @@ void MaterialUpdate::updateDamaged(const Material& mat, std::int32_t id, const M
       [&](const auto& eos, const auto& strength, const auto& damage) {
         using D = std::decay_t<decltype(damage)>;
         const double G = strength.shearModulus();
+        const EosStage<std::decay_t<decltype(eos)>> stage{eos, mat.porosity, f, true};
         for (std::size_t i = 0; i < n; ++i) {
           if (f.material[i] != id) continue;
           const StrengthState before{f.Sintact[i], f.plasticStrain[i], f.temperature[i]};
           const StrengthState next = freezeFailed && f.damage[i] >= 1.0
                                          ? before
                                          : strength.update(before, f.L[i], dt, f.rho[i]);
-          const EosState st = eos.evaluate(f.rho[i], f.e[i]);
-          const double cs = std::sqrt(st.cs * st.cs + 4.0 * G / (3.0 * f.rho[i]));
+          const EosState st = stage(i);
+          const double cs = longitudinal(st.cs, G, f.rho[i]);
           if constexpr (std::is_same_v<D, GradyKipp>) {
             const double scale = f.flawScale[i];
             // R_s: the radius of the sphere of the particle's flaw volume V = scale^-m / k.

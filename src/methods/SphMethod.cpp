@@ -272,9 +272,11 @@ template <int Dim> materials::MaterialFields SphMethod<Dim>::materialFields() {
   if (f_.hasCap()) {
     mf.volumetricStrain = s_[f_.volumetricStrain].first(n);
     mf.capPosition = s_[f_.capPosition].first(n);
-    mf.porosity = s_[f_.porosity].first(n);
     mf.porePressure = s_[f_.porePressure].first(n);
   }
+  if (f_.porosity.valid()) mf.porosity = s_[f_.porosity].first(n);
+  if (f_.hasPAlpha()) mf.alpha = s_[f_.alpha].first(n);
+  if (f_.alphaPlastic.valid()) mf.alphaPlastic = s_[f_.alphaPlastic].first(n);
   if (f_.damageTensor.valid()) {
     mf.damageTensor = s_[f_.damageTensor].first(n);
     mf.strainTensor = s_[f_.strainTensor].first(n);

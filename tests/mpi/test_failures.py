@@ -6,6 +6,9 @@
   particle's history file (steps up to the failure, the last row non-finite or non-positive) and
   a checkpoint of the last good step, which restarts and meets the same failure at the same step;
   the history file is the same on 1 and 3 ranks, number for number (replay is exact);
+- a solid's failing particle (pumice_impact_2d at cfl 5) also gets its F-table and state over
+  the replayed steps, the same on 1 and 3 ranks and kept through a restart; `spall element
+  --state` on them (the command the message prints) gives its stress history to round-off;
 - a collapsed time step at the first step (a floor above the stable step) checkpoints the state
   it has and says which particle set the step;
 - a batch log (stdout to a file, through mpirun too) gets plain progress lines, no escape codes.
@@ -100,6 +103,47 @@ try:
     check(r3.stderr.count("error:") == 1, f"3 ranks: printed once:\n{r3.stderr}")
     check((out3 / f"failure_step{step}_particle{pid}.csv").read_text() == first_history,
           "3 ranks: the same history file, number for number")
+
+    # ---- a solid: the failing particle's F-table, replayed by spall element ----
+    pumice = SRC / "decks/pumice_impact_2d.toml"
+    solid = {}
+    for ranks in (1, 3):
+        outs = tmp / f"solid{ranks}"
+        r = run(ranks, [str(pumice), "--output", str(outs), *UNSTABLE])
+        m = re.search(r"its material alone replays them: spall (element .*)", r.stderr)
+        check(r.returncode != 0 and m is not None, f"{ranks} rank(s): the message names the "
+              f"F-table and the replay command:\n{r.stderr}")
+        if m is None:
+            continue
+        stem = re.search(r"--table (\S+)\.ftable", m.group(1)).group(1)
+        solid[ranks] = (m.group(1).split(), Path(stem + ".ftable").read_text(),
+                        Path(stem + "_state.csv").read_text(), outs)
+    if 1 in solid and 3 in solid:
+        check(solid[1][1] == solid[3][1] and solid[1][2] == solid[3][2],
+              "1 and 3 ranks: the same F-table and state, number for number")
+        command, table, state, outs = solid[1]
+        rows = table.count("\n") - 1
+        check(rows >= 3, f"the F-table has the replayed steps ({rows} rows)")
+        r = subprocess.run([str(SPALL), *command], capture_output=True, text=True, env=ENV)
+        replay = Path(command[command.index("--output") + 1])
+        check(r.returncode in (0, 1) and replay.exists(), f"spall element replays it: {r.stderr}")
+        with open(replay) as f:
+            got_rows = list(csv.DictReader(f))
+        want_rows = list(csv.DictReader(state.splitlines()))
+        keys = ("sxx", "syy", "szz", "sxy", "pressure")
+        peak = max(abs(float(w[k])) for w in want_rows for k in keys)
+        worst = max(abs(float(g[k]) - float(w[k])) for g, w in zip(got_rows, want_rows)
+                    for k in keys)
+        # Round-off: the replay repeats the run's update from the recorded state; the F-table
+        # (F = I + dt L per step, in doubles) carries L to ~1e-16 of F, and the stress then grows
+        # ~1e30-fold over the replayed steps as the particle blows up, so 1e-10 of the history's
+        # peak stress (measured 2e-13).
+        check(len(got_rows) == len(want_rows) and worst <= 1e-10 * peak,
+              f"the replay gives the recorded stress ({len(got_rows)} of {len(want_rows)} rows, "
+              f"worst {worst:.3e} Pa of peak {peak:.3e} Pa)")
+        r = run(1, [str(pumice), "--output", str(outs), "--restart", "latest", *UNSTABLE])
+        check(r.returncode == 1 and Path(str(outs / Path(command[command.index("--table") + 1]).name))
+              .read_text() == table, "a restart into the same failure keeps the first F-table")
 
     # ---- a collapsed step: the floor is 1e-14 of the end time ----
     outc = tmp / "collapse"

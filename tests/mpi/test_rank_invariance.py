@@ -79,7 +79,13 @@ CASES = [("sod_1d.toml", []), ("rod_impact_copper.toml", ["run.end_time=6e-6"]),
          # the cap model (saturated): a confined block crushing behind a piston, walls, a
          # Brent-iterated return per particle; plastic volumetric strain, cap, pore pressure
          ("sandstone_confined_2d.toml", ["run.end_time=8e-6", "run.resolution=0.5",
-                                         "material.sandstone.strength.fluid_bulk_modulus=2.2e9"])]
+                                         "material.sandstone.strength.fluid_bulk_modulus=2.2e9"]),
+         # P-alpha with strength and flaws: the distension compacting by a Newton solve per
+         # particle behind a 2.58 km/s projectile
+         ("pumice_impact_2d.toml", ["run.end_time=1.5e-6", "run.resolution=0.5"]),
+         # ... with elastic distension (Herrmann): an elastic trial solve, then the plastic one
+         ("pumice_impact_2d.toml", ["run.end_time=1.0e-6", "run.resolution=0.5",
+                                    "material.pumice.porosity.elastic_sound_speed=1000"])]
 
 with tempfile.TemporaryDirectory() as tmp:
     tmp = Path(tmp)

@@ -235,6 +235,26 @@ with tempfile.TemporaryDirectory() as tmp:
     same_state(full, half, "confined sandstone (cap, pore fluid), 2 ranks, restart mid-compaction",
                same_index=False)
 
+    # P-alpha mid-compaction: the distension is checkpointed; the solve after the restart starts
+    # from the same alpha_old.
+    pumice = SRC / "decks/pumice_impact_2d.toml"
+    coarse = ["run.resolution=0.5", "run.end_time=2e-6"]
+    full, half = tmp / "pum_full", tmp / "pum_half"
+    run(pumice, 2, full, coarse)
+    run(pumice, 2, half, [*coarse, "run.max_steps=80"])
+    run(pumice, 2, half, coarse, restart="latest")
+    same_state(full, half, "pumice impact (P-alpha, flaws), 2 ranks, restart mid-compaction",
+               same_index=False)
+    # ... with elastic distension: the plastic distension is checkpointed too.
+    elastic = ["run.resolution=0.5", "run.end_time=1.5e-6",
+               "material.pumice.porosity.elastic_sound_speed=1000"]
+    full, half = tmp / "pum_el_full", tmp / "pum_el_half"
+    run(pumice, 1, full, elastic)
+    run(pumice, 1, half, [*elastic, "run.max_steps=60"])
+    run(pumice, 1, half, elastic, restart="latest")
+    same_state(full, half, "pumice impact with elastic distension, restart mid-compaction",
+               same_index=False)
+
     # ---- N to M ------------------------------------------------------------------------------
     ckpt = tmp / "half2" / "checkpoints"
     for ranks in (1, 3):

@@ -42,6 +42,7 @@ import tempfile
 from pathlib import Path
 
 import numpy as np
+from plots import save_plot
 
 SPALL, SRC = sys.argv[1], Path(sys.argv[2])
 ELEMENT = SRC / "tests" / "verification" / "element"
@@ -134,20 +135,7 @@ def hydrostatic_reference(ev, hardening=True):
 
 
 def plot(name, draw):
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        return
-    PLOTS.mkdir(exist_ok=True)
-    fig, ax = plt.subplots(figsize=(6, 4.5))
-    draw(ax)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(PLOTS / f"{name}.png", dpi=110)
-    plt.close(fig)
+    save_plot(PLOTS, name, draw)
 
 
 with tempfile.TemporaryDirectory() as tmp:

@@ -31,7 +31,8 @@ struct ElementOptions {
 };
 
 // Throws DeckError (deck or table, exit 2), UsageError (options, exit 2) or RunError (the
-// material failed: non-finite state, exit 1). The CSV appears only once complete.
+// material failed: non-finite state, exit 1). The CSV appears only once complete, or once the
+// material failed (with the rows before the failure: a failed run's particle, replayed).
 void runElement(const ElementOptions& options);
 
 } // namespace spall::app

@@ -11,6 +11,8 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace spall::app {
@@ -18,13 +20,17 @@ namespace spall::app {
 template <int Dim> class ParticleRecorder {
 public:
   explicit ParticleRecorder(const OutputConfig& output);
+  // One particle recorded under other names in the output directory (a failed run's replay):
+  // STEM.ftable and STEM_state.csv, without rows whose F is non-finite or inverted.
+  ParticleRecorder(std::int64_t id, std::string stem);
   bool empty() const { return ids_.empty(); }
   // Collective: every id names a particle of the run (else a DeckError at the deck key).
   void check(const ParticleStore& s, const ParticleFields<Dim>& f,
              const parallel::MpiContext& mpi) const;
-  // Rank 0: the files, new, or continued after a restart at `time`. A cap material's state
-  // (plastic volumetric strain, cap position, porosity, pore pressure) is recorded when f has it.
-  void open(const std::filesystem::path& dir, bool resumed, double time,
+  // Collective: the files, new, or continued after a restart at `time` (rank 0 writes). The
+  // porous models' state (a cap's plastic volumetric strain, cap position, porosity and pore
+  // pressure; P-alpha's distension) is recorded when the store has it.
+  void open(const std::filesystem::path& dir, bool resumed, double time, const ParticleStore& s,
             const ParticleFields<Dim>& f, const parallel::MpiContext& mpi);
   // Collective: the recorded particles' rows at `time`.
   void write(double time, const ParticleStore& s, const ParticleFields<Dim>& f,
@@ -32,8 +38,12 @@ public:
 
 private:
   std::vector<std::int64_t> ids_;
-  bool cap_ = false;
+  bool intact_ = false; // a damaged material's intact deviatoric stress is recorded
+  std::vector<Field<double>> extras_;
+  std::vector<Field<std::int32_t>> counts_; // integer state (flaw counts), written as numbers
+  std::vector<std::pair<std::string, Field<Tensor<3>>>> tensors_; // 9 columns each
   SourceLocation where_;
+  std::string stem_; // empty: particles/particle_ID
   std::vector<io::CsvLog> tables_, states_;
 };
 

@@ -52,6 +52,10 @@ template <int Dim> struct ParticleFields {
   // Cap plasticity (a "cap" material): the plastic volumetric strain (the history), and the cap
   // position X, porosity and pore pressure it means at the particle's density.
   Field<double> volumetricStrain, capPosition, porosity, porePressure;
+  // P-alpha (a material with `porosity`): the distension alpha (the history); `porosity` holds
+  // 1 - 1/alpha for its particles (the cap's phi for a cap material's).
+  Field<double> alpha;
+  Field<double> alphaPlastic; // with elastic distension: the plastic part (the history then)
 
   // [fragments]: each particle's place in the fragment catalogue of the last snapshot (0: the
   // most massive fragment). Written at snapshots, not checkpointed.
@@ -66,6 +70,7 @@ template <int Dim> struct ParticleFields {
   bool hasDamage() const { return damage.valid(); }
   bool hasFlaws() const { return flawCount.valid(); }
   bool hasCap() const { return volumetricStrain.valid(); }
+  bool hasPAlpha() const { return alpha.valid(); }
 
   // What every particle method carries: identity, kinematics, mass, thermodynamic state, and
   // the rates and sums of the SPH step. The neighbor search and the force loop read the first
@@ -123,14 +128,21 @@ template <int Dim> struct ParticleFields {
     constexpr unsigned out = kOutput | kCheckpoint;
     volumetricStrain = s.add<double>("plastic_volumetric_strain", out);
     capPosition = s.add<double>("cap_position", out);
-    porosity = s.add<double>("porosity", out);
+    if (!porosity.valid()) porosity = s.add<double>("porosity", out);
     porePressure = s.add<double>("pore_pressure", out);
   }
-  // F_{n+1} = (I + dt L_n) F_n of the owned particles: snapshots ([N,3,3]) and checkpoints.
-  void registerDeformationGradient(ParticleStore& s) {
-    Fdef = s.add<Tensor<3>>("deformation_gradient", kOutput | kCheckpoint);
-    rhoUpdate = s.add<double>("update_density", kCheckpoint);
-    eUpdate = s.add<double>("update_specific_internal_energy", kCheckpoint);
+  void registerPAlpha(ParticleStore& s, bool elastic) {
+    constexpr unsigned out = kOutput | kCheckpoint;
+    alpha = s.add<double>("porosity_alpha", out);
+    if (elastic) alphaPlastic = s.add<double>("plastic_distension", out);
+    if (!porosity.valid()) porosity = s.add<double>("porosity", out);
+  }
+  // F_{n+1} = (I + dt L_n) F_n of the owned particles: snapshots ([N,3,3]) and checkpoints;
+  // `transient` (a failed run's replay): neither, the fields live for the replay only.
+  void registerDeformationGradient(ParticleStore& s, bool transient = false) {
+    Fdef = s.add<Tensor<3>>("deformation_gradient", transient ? 0u : kOutput | kCheckpoint);
+    rhoUpdate = s.add<double>("update_density", transient ? 0u : kCheckpoint);
+    eUpdate = s.add<double>("update_specific_internal_energy", transient ? 0u : kCheckpoint);
   }
   // Sent to ghosts on its own, after it is computed (not with the halo).
   void registerKernelCorrection(ParticleStore& s) {

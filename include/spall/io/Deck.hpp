@@ -71,12 +71,24 @@ struct DamageConfig {
   SourceLocation where;
 };
 
+// porosity = {type = "p_alpha", ...} (INTERFACE.md; materials/Porosity.hpp for the model).
+struct PorosityConfig {
+  std::string type = "none"; // "none" | "p_alpha"
+  double alpha0 = 1.0, elastic_pressure = 0.0, solid_pressure = 0.0, exponent = 2.0;
+  // two-stage curve (all three or none): alpha0 -> alpha_transition -> 1
+  std::optional<double> transition_pressure, alpha_transition, exponent_transition;
+  // the porous material's elastic wave speed c_e (0: the matrix's; Jutzi et al. 2008)
+  double elastic_sound_speed = 0.0;
+  SourceLocation where, soundSpeedWhere;
+};
+
 struct MaterialConfig {
   std::string name;
   double density = 0.0; // reference density rho0
   EosConfig eos;
   StrengthConfig strength;
   DamageConfig damage;
+  PorosityConfig porosity;
   std::string erosion = "none"; // "none" | "no_tension" | "no_shear" | "zero_stress"
   SourceLocation where;
 };

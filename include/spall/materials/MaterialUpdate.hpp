@@ -11,6 +11,7 @@
 #include "spall/materials/CapPlasticity.hpp"
 #include "spall/materials/Damage.hpp"
 #include "spall/materials/Eos.hpp"
+#include "spall/materials/Porosity.hpp"
 #include "spall/materials/Strength.hpp"
 
 #include <cmath>
@@ -27,6 +28,7 @@ struct Material {
   std::optional<Damage> damage = std::nullopt; // needs strength
   Erosion erosion = Erosion::None;
   std::optional<CapPlasticity> cap = std::nullopt; // the whole stress: eos and strength unused
+  std::optional<PAlpha> porosity = std::nullopt;   // P-alpha around the eos
 
   bool solid() const { return strength.has_value() || cap.has_value(); }
   double shearModulus() const {
@@ -41,15 +43,9 @@ struct Material {
   }
 };
 
-// The thermodynamic state the EOS stage returns: pressure and signal speed.
-struct MaterialResponse {
-  double p = 0.0, cs = 0.0;
-};
-
-// The EOS stage of one particle; G is the shear modulus (0 for a fluid).
-template <class E> MaterialResponse evaluateEos(const E& eos, double G, double rho, double e) {
-  const EosState st = eos.evaluate(rho, e);
-  return {st.p, G > 0.0 ? std::sqrt(st.cs * st.cs + 4.0 * G / (3.0 * rho)) : st.cs};
+// The signal speed of a solid of shear modulus G (0: a fluid) from its bulk one.
+inline double longitudinal(double cs, double G, double rho) {
+  return G > 0.0 ? std::sqrt(cs * cs + 4.0 * G / (3.0 * rho)) : cs;
 }
 
 // The per-particle fields of the owned particles a material pass reads and writes. The strength
@@ -76,6 +72,12 @@ struct MaterialFields {
   // single-element driver) receives each update's iteration count.
   std::span<double> volumetricStrain = {}, capPosition = {}, porosity = {}, porePressure = {};
   std::span<std::int32_t> returnIterations = {};
+  // P-alpha materials: the distension alpha (the history; `porosity` is 1 - 1/alpha there).
+  // returnIterations then receives the EOS evaluations of the compaction solve.
+  std::span<double> alpha = {};
+  // With elastic distension (elastic_sound_speed): the plastic distension alpha_p, the history
+  // then (alpha = alpha_p + the elastic part; materials/Porosity.hpp).
+  std::span<double> alphaPlastic = {};
 };
 
 class MaterialUpdate {
@@ -94,6 +96,7 @@ public:
   bool anyFlaws() const;
   bool anyTensorDamage() const;
   bool anyCap() const;
+  bool anyPorosity() const;
 
 private:
   void capPass(const CapPlasticity& cap, std::int32_t id, const MaterialFields& f, bool advance,

@@ -9,6 +9,7 @@
 #include "spall/methods/StepStats.hpp"
 
 #include <cstdint>
+#include <memory>
 
 namespace spall::methods {
 
@@ -41,6 +42,9 @@ public:
   // The method's restartable state beyond the particle fields (its modules' included).
   virtual void save(io::CheckpointState& st) const = 0;
   virtual void restore(const io::CheckpointState& st) = 0;
+  // A module joining the running method, last in the list (a failed run's replay adds the
+  // deformation gradient): its fields are registered now, and the caller sets their values.
+  virtual void addModule(std::unique_ptr<Module<Dim>> module) = 0;
 };
 
 } // namespace spall::methods

@@ -42,6 +42,10 @@ public:
   StepStats& stats() override { return stats_; }
   void save(io::CheckpointState& st) const override;
   void restore(const io::CheckpointState& st) override;
+  void addModule(std::unique_ptr<Module<Dim>> module) override {
+    module->registerFields(s_, f_);
+    modules_.push_back(std::move(module));
+  }
 
 private:
   void kickDrift(double dt);

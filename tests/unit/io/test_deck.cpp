@@ -435,11 +435,6 @@ TEST_F(DeckTest, EosKeyOfAnotherTypeIsUnknown) {
               "bulk_modulus)");
 }
 
-TEST_F(DeckTest, LaterMaterialModelsAreNotAvailableYet) {
-  expectError(withLine(kDeck1D, 15, "porosity = { type = \"p_alpha\" }"), 15, 12,
-              "'porosity' in material 'copper' is not available yet");
-}
-
 // ---- damage and erosion ----
 
 namespace {
@@ -579,6 +574,42 @@ TEST_F(DeckTest, StrengthModelsNeedTheirParameters) {
   expectError(withLine(kDeck1D, 15,
                        "strength = { type = \"elastic\", shear_modulus = 4.5e10, yield = 1.0 }"),
               15, 56, "unknown key 'yield'");
+}
+
+TEST_F(DeckTest, PorosityIsCheckedAtItsKeys) {
+  const std::string ok = "porosity = { type = \"p_alpha\", alpha0 = 1.5, elastic_pressure = 1e6, "
+                         "solid_pressure = 1e9";
+  const Deck deck = load(withLine(kDeck1D, 15, ok + " }"));
+  EXPECT_EQ(deck.materials[0].porosity.type, "p_alpha");
+  EXPECT_EQ(deck.materials[0].porosity.exponent, 2.0); // the default
+  expectError(withLine(kDeck1D, 15,
+                       "porosity = { type = \"p_alpha\", alpha0 = 0.5, elastic_pressure = 1e6, "
+                       "solid_pressure = 1e9 }"),
+              15, 41, "'material.copper.porosity.alpha0' must be >= 1");
+  expectError(withLine(kDeck1D, 15, ok + ", transition_pressure = 1e8 }"), 15, 114,
+              "'alpha_transition' is missing");
+  expectError(withLine(kDeck1D, 15,
+                       ok + ", transition_pressure = 1e8, alpha_transition = 1.5, "
+                            "exponent_transition = 1.0 }"),
+              15, 138, "alpha_transition");
+  EXPECT_EQ(load(withLine(kDeck1D, 15, ok + ", elastic_sound_speed = 1500.0 }"))
+                .materials[0]
+                .porosity.elastic_sound_speed,
+            1500.0);
+  expectError(withLine(kDeck1D, 15, ok + ", elastic_sound_speed = -1500.0 }"), 15, 114,
+              "'material.copper.porosity.elastic_sound_speed' must be > 0");
+  expectError(withLine(kDeck1D, 15,
+                       "porosity = { type = \"p_alpha\", alpha0 = 1.0, elastic_pressure = 1e6, "
+                       "solid_pressure = 1e9, elastic_sound_speed = 1500.0 }"),
+              15, 114, "alpha0 = 1 is not porous");
+  // A cap material has its own porosity (checked after its eos: line 14 goes).
+  expectError(withLine(withLine(kDeck1D, 14, ok + " }"), 15,
+                       "strength = { type = \"cap\", bulk_modulus = 1e10, shear_modulus = 1e10, "
+                       "peak_i1 = 1e6, f_slope = 0.4, cap_ratio = 5.0, crush_p0 = -1e7, "
+                       "crush_p1 = 1e-10, crush_p3 = 0.1 }"),
+              14, 12, "carries its own porosity");
+  expectError(withLine(kDeck1D, 15, "porosity = 2.0"), 15, 12,
+              "'material.copper.porosity' must be a table");
 }
 
 TEST_F(DeckTest, CylinderIs3DOnlyAndRingIs2DOnly) {

@@ -12,8 +12,10 @@ namespace spall::methods {
 
 template <int Dim> class DeformationGradient final : public Module<Dim> {
 public:
+  // `transient`: for a failed run's replay only (its fields in no snapshot or checkpoint).
+  explicit DeformationGradient(bool transient = false) : transient_(transient) {}
   void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override {
-    f.registerDeformationGradient(s);
+    f.registerDeformationGradient(s, transient_);
   }
   void initialise(ParticleStore& s, const ParticleFields<Dim>& f,
                   const RunStart& /*start*/) const override {
@@ -33,6 +35,9 @@ public:
       s[f.eUpdate][i] = e[i];
     }
   }
+
+private:
+  bool transient_;
 };
 
 } // namespace spall::methods
