@@ -255,7 +255,21 @@ std::vector<BodySummary> generateBodies(const Deck& deck,
           }
     } else {
       // The lattice is mapped by A about the shape centre, so cover the preimage of the shape.
-      const Vec<Dim> c = shape.center();
+      Vec<Dim> c = shape.center();
+      // A cylinder along a lattice axis whose length is an odd number of spacings: the sites'
+      // half-integer offsets about the centre would put layers on both end planes (one kept,
+      // one not, by rounding); half a spacing along the axis puts them half a spacing inside,
+      // as for an even count (a Taylor bar then starts in contact with its wall at any
+      // resolution).
+      if (body.shape.type == "cylinder" && body.lattice == "cubic" && !body.lattice_transform) {
+        const Vec<Dim> axis = toVec<Dim>(body.shape.axis).normalized();
+        const double layers = body.shape.length / dx;
+        const double nearest = std::round(layers);
+        const bool odd =
+            std::abs(layers - nearest) < 1e-6 * layers && std::fmod(nearest, 2.0) == 1.0;
+        for (int d = 0; d < Dim; ++d)
+          if (odd && std::abs(std::abs(axis[d]) - 1.0) < 1e-12) c += (0.5 * dx) * axis;
+      }
       // |A^-1|_F bounds the operator norm of A^-1 from above: a conservative cover.
       const double radius = shape.extent() * A.inverse().norm();
       const double volume = forEachLatticeSite<Dim>(body.lattice == "hexagonal", dx, radius,

@@ -41,7 +41,8 @@ std::optional<materials::Strength> buildStrength(const StrengthConfig& c) {
                                   c.room_temperature,
                                   c.melt_temperature,
                                   c.specific_heat,
-                                  c.taylor_quinney};
+                                  c.taylor_quinney,
+                                  c.strain_rate == "plastic"};
   return std::nullopt;
 }
 

@@ -27,7 +27,7 @@ const std::vector<TypedTable>& typedTables() {
         {"von_mises", {"shear_modulus", "yield_stress"}},
         {"johnson_cook",
          {"shear_modulus", "A", "B", "n", "C", "m", "reference_strain_rate", "room_temperature",
-          "melt_temperature", "specific_heat", "taylor_quinney"}},
+          "melt_temperature", "specific_heat", "taylor_quinney", "strain_rate"}},
         {"cap",
          {"bulk_modulus", "shear_modulus", "peak_i1", "f_slope", "cap_ratio", "crush_p0",
           "crush_p1", "crush_p3", "hardening", "dilatancy", "fluid_bulk_modulus",

@@ -113,6 +113,7 @@ void readStrength(const TableReader& r, StrengthConfig& c) {
     c.taylor_quinney = need("taylor_quinney");
     r.check(c.taylor_quinney >= 0.0 && c.taylor_quinney <= 1.0, "taylor_quinney", "in [0, 1]",
             c.taylor_quinney);
+    c.strain_rate = r.choice("strain_rate", {"plastic", "total"}, "plastic");
   }
 }
 

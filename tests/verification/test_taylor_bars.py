@@ -1,18 +1,26 @@
 #!/usr/bin/python3
 """Taylor anvil tests against their published references (decks/taylor_bar_*.toml; issue 21):
-the final length and impact-face diameter measured by tools/taylor, and no particle below the
-rigid wall in any snapshot.
+the final length and impact-face diameter measured by tools/taylor, the deformed profile against
+the published one where the deck carries it, and no particle below the rigid wall in any
+snapshot. Runs on 2 ranks.
 
-Fast (default): the 42CrMo4 steel bar (Pantale et al., DynELA and Abaqus: 26.55 mm, 11.19 mm) at
-half the shipped resolution, 5 particles across the radius (~3.9k particles), on 2 ranks.
-Tolerances: length within 4%, face diameter within 8%. At this resolution the smoothing scale
-(1.5 spacings) is a third of the bar's radius, and the run measures -2.4% and -7.3%; the
-convergence study (decks/README.md, "Taylor bars") has both errors shrinking with resolution
-(-1.5% and -1.6% at the shipped one). The bound still separates the viscosity the defaults use
-from the plain one, whose face comes out 16% narrow here.
+Fast (default), at half the shipped resolution (about 5 particles across the radius, where the
+smoothing scale, 1.5 spacings, is a third of the radius):
+- 42CrMo4 steel (Pantale et al., DynELA and Abaqus, the same Johnson-Cook model: 26.55 mm,
+  11.19 mm), 3.8k particles: length within 4%, face within 8%. Measured -2.4% and -7.3%; the
+  convergence study (decks/README.md, "Taylor bars") has both errors shrinking with resolution
+  (-1.5% and -1.6% at the shipped one). The plain viscosity's face comes out 16% narrow here.
+- 4340 steel (Johnson & Cook's 1983 test, 22.48 mm, 11.1 mm, and its profile), 2.4k particles:
+  length within 3%, face within 10%, profile RMS within 5% of the radius. Measured -0.7%, -7.6%
+  and 3.5%; the face converges slowly (-5.4% at the shipped resolution) and the reference is a
+  test, not the model, so it also holds the model's own error. The plain viscosity gives
+  +0.3%, -12.7% and 5.8% here.
 
-With `long`: the shipped resolution (10 across the radius, 30.8k particles, ~17 min on 2
-cores): length within 2% and face diameter within 4% (the issue's bounds).
+With `long`: the shipped resolutions (10 across the radius; ~17 min and ~10 min on 2 cores):
+42CrMo4 within the issue's 2% (length) and 4% (face); 4340 within 2% (length) and 6% (face:
+-5.4% measured, converging at order ~0.5 from -7.6%), profile RMS within 3% (2.5% measured).
+The OFHC copper bar (taylor_bar_3d) is measured, not asserted: its length stays 5.1% long from
+4 to 7 particles across the radius, with the mushroom within 2% of the test (decks/README.md).
 
 usage: test_taylor_bars.py SPALL SOURCE_DIR [long]
 """
@@ -31,13 +39,15 @@ spec = importlib.util.spec_from_loader("taylor", loader)
 taylor = importlib.util.module_from_spec(spec)
 loader.exec_module(taylor)
 
-# deck, resolution, length tolerance, diameter tolerance
-CASES = [("taylor_bar_steel_3d.toml", 1.0, 0.02, 0.04)] if LONG else \
-        [("taylor_bar_steel_3d.toml", 0.5, 0.04, 0.08)]
+# deck, resolution, length tolerance, diameter tolerance, profile RMS tolerance (None: no profile)
+CASES = [("taylor_bar_steel_3d.toml", 1.0, 0.02, 0.04, None),
+         ("taylor_bar_4340_3d.toml", 1.0, 0.02, 0.06, 0.03)] if LONG else \
+        [("taylor_bar_steel_3d.toml", 0.5, 0.04, 0.08, None),
+         ("taylor_bar_4340_3d.toml", 0.5, 0.03, 0.10, 0.05)]
 
 failures = []
 with tempfile.TemporaryDirectory() as tmp:
-    for deck, resolution, tol_length, tol_diameter in CASES:
+    for deck, resolution, tol_length, tol_diameter, tol_profile in CASES:
         out = Path(tmp) / deck
         cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", "2", SPALL, "run",
                str(SRC / "decks" / deck), "--output", str(out), "--quiet",
@@ -56,6 +66,11 @@ with tempfile.TemporaryDirectory() as tmp:
         if abs(m["diameter_error"]) > tol_diameter:
             failures.append(f"{deck}: face diameter error {m['diameter_error'] * 100:+.2f}% beyond "
                             f"{tol_diameter * 100:g}%")
+        if tol_profile is not None:
+            print(f"  profile against the test: RMS {m['profile_rms'] * 100:.2f}%, largest "
+                  f"{m['profile_max'] * 100:.2f}% of the radius")
+            if m["profile_rms"] > tol_profile:
+                failures.append(f"{deck}: profile RMS {m['profile_rms'] * 100:.2f}% beyond {tol_profile * 100:g}%")
         for row in m["rows"]:
             if row["lowest"] < 0.0:
                 failures.append(f"{deck}: a particle {-row['lowest'] * 1e6:.1f} um below the wall at "

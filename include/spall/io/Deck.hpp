@@ -55,6 +55,7 @@ struct StrengthConfig {
   double A = 0.0, B = 0.0, n = 1.0, C = 0.0, m = 1.0, reference_strain_rate = 1.0;
   double room_temperature = 293.0, melt_temperature = 0.0, specific_heat = 0.0;
   double taylor_quinney = 0.9;
+  std::string strain_rate = "plastic"; // "plastic" | "total": the rate in Johnson-Cook's rate term
   SourceLocation where;
 };
 

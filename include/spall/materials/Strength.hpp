@@ -91,18 +91,22 @@ struct VonMises {
 };
 
 // strength = {type = "johnson_cook", shear_modulus, A, B, n, C, m, reference_strain_rate,
-//             room_temperature, melt_temperature, specific_heat, taylor_quinney}
+//             room_temperature, melt_temperature, specific_heat, taylor_quinney, strain_rate}
 // sigma_y = (A + B eps_p^n)(1 + C ln max(rate/rate0, 1))(1 - T*^m), T* = (T - Troom)/(Tmelt -
-// Troom) (Johnson & Cook 1983). The rate is the total equivalent strain rate of the step; below the
-// reference rate the rate term is 1. At or above the melt temperature the material carries no
-// shear (Austin 2013, Eq. 6.6).
+// Troom) (Johnson & Cook 1983); below the reference rate the rate term is 1. The rate is, as in
+// the paper, the equivalent plastic strain rate (strain_rate = "plastic", the default): the return
+// finds the plastic increment d and the yield stress at the rate d/dt together, so elastic
+// ringing in a particle at yield does not raise its flow stress. strain_rate = "total" takes the
+// total equivalent deviatoric strain rate of the step instead (the yield scaling of codes that
+// do so). At or above the melt temperature the material carries no shear (Austin 2013, Eq. 6.6).
 struct JohnsonCook {
   double G = 0.0;
   double A = 0.0, B = 0.0, n = 1.0, C = 0.0, m = 1.0;
   double rate0 = 1.0;
   double Troom = 293.0, Tmelt = 1356.0;
-  double cp = 385.0; // specific heat, J/(kg K)
-  double chi = 0.9;  // Taylor-Quinney coefficient
+  double cp = 385.0;       // specific heat, J/(kg K)
+  double chi = 0.9;        // Taylor-Quinney coefficient
+  bool plasticRate = true; // strain_rate = "plastic" (true) or "total"
 
   double thermalFactor(double T) const {
     const double Tstar = (T - Troom) / (Tmelt - Troom);
@@ -116,31 +120,43 @@ struct JohnsonCook {
   StrengthState update(const StrengthState& s, const Mat3& L, double dt, double rho) const {
     StrengthState out = s;
     out.S = elasticTrial(s.S, L, dt, G);
-    const double factor = rateFactor(equivalentStrainRate(L)) * thermalFactor(s.temperature);
-    if (factor <= 0.0) { // molten
+    const double thermal = thermalFactor(s.temperature);
+    if (thermal <= 0.0) { // molten
       out.S.setZero();
       return out;
     }
+    const double total = plasticRate ? 0.0 : rateFactor(equivalentStrainRate(L));
+    // The yield stress after a plastic increment d over the step.
+    const auto yield = [&](double d) {
+      const double rate = plasticRate ? rateFactor(d / dt) : total;
+      return hardening(s.plasticStrain + d) * rate * thermal;
+    };
     const double q = vonMisesStress(out.S);
-    const auto yield = [&](double eps) { return hardening(eps) * factor; };
-    if (q <= yield(s.plasticStrain)) return out;
-    // g(d) = q - 3 G d - Y(eps + d) decreases in d from g(0) > 0 to g(q/3G) <= 0: bisection keeps
-    // a bracket, the secant step converges fast inside it (the hardening curve is smooth).
+    if (q <= yield(0.0)) return out;
+    // g(d) = q - 3 G d - Y(d) decreases in d (Y grows with the strain and its rate) from
+    // g(0) > 0 to g(q/3G) <= 0. Regula falsi inside the bracket, with the Illinois modification
+    // (an end kept twice has its g halved): the log of the plastic rate curves g so strongly near
+    // d = 0 that plain regula falsi keeps one end for good and crawls.
     double lo = 0.0, hi = q / (3.0 * G);
-    double glo = q - yield(s.plasticStrain), ghi = -yield(s.plasticStrain + hi);
+    double glo = q - yield(0.0), ghi = -yield(hi);
     double d = hi * glo / (glo - ghi);
-    for (int k = 0; k < 60; ++k) {
-      const double g = q - 3.0 * G * d - yield(s.plasticStrain + d);
+    int kept = 0; // +1: lo moved last (hi kept), -1: hi moved last
+    for (int k = 0; k < 100; ++k) {
+      const double g = q - 3.0 * G * d - yield(d);
       if (std::abs(g) <= 1e-12 * q) break;
-      if (g > 0.0)
+      if (g > 0.0) {
         lo = d, glo = g;
-      else
+        if (kept == 1) ghi *= 0.5;
+        kept = 1;
+      } else {
         hi = d, ghi = g;
-      const double secant = lo + (hi - lo) * glo / (glo - ghi);
-      d = (secant > lo && secant < hi) ? secant : 0.5 * (lo + hi);
-      if (hi - lo <= 1e-15 * std::max(hi, 1e-300)) break;
+        if (kept == -1) glo *= 0.5;
+        kept = -1;
+      }
+      d = lo + (hi - lo) * glo / (glo - ghi);
+      if (hi - lo <= 1e-15 * hi) break;
     }
-    const double Y = yield(s.plasticStrain + d);
+    const double Y = yield(d);
     out.S *= Y / q;
     out.plasticStrain += d;
     out.temperature += chi * Y * d / (rho * cp); // Austin (2013), Eq. 6.7

@@ -92,6 +92,33 @@ lattice_transform = [[2.0, 0.0, 0.0], [0.0, 0.5, 0.0], [0.0, 0.0, 1.0]]
   EXPECT_NEAR(b.bodies[0].mass / (2.0 * 4.0 / 3.0 * std::numbers::pi * 0.125), 1.0, 1e-2);
 }
 
+TEST(BodyGenerator, CylinderLayersSitHalfASpacingInsideItsEnds) {
+  // A cylinder along z, an odd (75) and an even (76) number of spacings long: in both, layers
+  // at (k + 1/2) dx from the base, the first half a spacing above it and the last half a spacing
+  // below the top (a Taylor bar starts in contact with its wall whatever the resolution).
+  for (const int layers : {75, 76}) {
+    const double dx = 0.01, length = layers * dx;
+    const Deck deck = deckFrom("cyl_layers", 3,
+                               R"([[body]]
+name = "rod"
+material = "m"
+shape = { type = "cylinder", base = [0.0, 0.0, 0.0], axis = [0.0, 0.0, 1.0], radius = 0.035, length = )" +
+                                   std::to_string(length) + R"( }
+spacing = 0.01
+)");
+    Generated<3> g(deck);
+    std::set<long> zs;
+    for (const auto& x : g.store[g.f.x]) {
+      const double k = x[2] / dx - 0.5;
+      ASSERT_NEAR(k, std::round(k), 1e-9) << "a layer off the half-integer sites, " << layers;
+      zs.insert(std::lround(k));
+    }
+    EXPECT_EQ(static_cast<int>(zs.size()), layers);
+    EXPECT_EQ(*zs.begin(), 0);
+    EXPECT_EQ(*zs.rbegin(), layers - 1);
+  }
+}
+
 TEST(BodyGenerator, JitterDependsOnSeedAndIdOnly) {
   const std::string body = R"([[body]]
 name = "a"

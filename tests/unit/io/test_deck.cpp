@@ -468,6 +468,20 @@ TEST_F(DeckTest, DamageTypesAndTheirKeys) {
   at(t, "1.5", "crack_speed");
 }
 
+TEST_F(DeckTest, JohnsonCookStrainRateIsPlasticOrTotal) {
+  const std::string jc = "strength = { type = \"johnson_cook\", shear_modulus = 46e9, A = 90e6, "
+                         "B = 292e6, n = 0.31, C = 0.025, m = 1.09, reference_strain_rate = 1.0, "
+                         "room_temperature = 294.0, melt_temperature = 1356.0, specific_heat = "
+                         "383.0, taylor_quinney = 0.9";
+  const std::string bad = withLine(kDeck1D, 15, jc + ", strain_rate = \"elastic\" }");
+  expectError(bad, 15, columnOf(bad, 15, "\"elastic\""), "plastic");
+  EXPECT_EQ(load(withLine(kDeck1D, 15, jc + " }")).materials[0].strength.strain_rate, "plastic");
+  EXPECT_EQ(load(withLine(kDeck1D, 15, jc + ", strain_rate = \"total\" }"))
+                .materials[0]
+                .strength.strain_rate,
+            "total");
+}
+
 TEST_F(DeckTest, ErosionNeedsDamageAndAKnownOption) {
   expectError(withLine(kDeck1D, 15, kElastic + "erosion = \"no_tension\""), 16, 11,
               "has no damage");

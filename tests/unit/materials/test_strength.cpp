@@ -195,6 +195,54 @@ TEST(StrengthJohnsonCook, HardeningCurveAndPlasticHeating) {
   EXPECT_EQ(jc.update(hot, L, dt, rho).S.norm(), 0.0);
 }
 
+// Johnson & Cook's rate term takes the plastic strain rate: in steady plastic flow at a
+// constant isochoric rate the plastic rate approaches the total one, and the flow stress is
+// (A + B eps_p^n)(1 + C ln(rate)) whichever rate the model takes; at every plastic step of the
+// "plastic" model the stress sits on the yield surface of that step's own plastic rate d/dt.
+TEST(StrengthJohnsonCook, PlasticStrainRateInTheRateTerm) {
+  JohnsonCook plastic{G, 90e6, 292e6, 0.31, 0.025, 1.09, 1.0, 293.0, 1356.0, 383.0, 0.0};
+  JohnsonCook total = plastic;
+  total.plasticRate = false;
+  const double rate = 1e4, dt = 1e-9, rho = 8930.0;
+  Mat3 L = Mat3::Zero();
+  L(0, 0) = rate;
+  L(1, 1) = L(2, 2) = -0.5 * rate; // equivalent strain rate = rate
+  StrengthState a, b;
+  a.temperature = b.temperature = plastic.Troom; // taylor_quinney 0: no heating, T* = 0
+  for (int k = 0; k < 20000; ++k) {              // total strain 0.2
+    const double before = a.plasticStrain;
+    a = plastic.update(a, L, dt, rho);
+    b = total.update(b, L, dt, rho);
+    const double d = a.plasticStrain - before;
+    if (d > 0.0) {
+      const double Ystep = plastic.hardening(a.plasticStrain) * plastic.rateFactor(d / dt);
+      // The return solves q - 3 G d = Y(eps + d, d/dt) to 1e-12 of q.
+      ASSERT_NEAR(vonMisesStress(a.S), Ystep, 1e-9 * Ystep) << "step " << k;
+    }
+  }
+  // Steady flow: the elastic rate (dY/dt over 3G) is 3e-4 of the total here, so both models'
+  // flow stresses agree with the rate-elevated curve to that order.
+  const double expect = plastic.hardening(a.plasticStrain) * (1.0 + 0.025 * std::log(rate));
+  EXPECT_NEAR(vonMisesStress(a.S), expect, 1e-3 * expect);
+  EXPECT_NEAR(vonMisesStress(b.S), expect, 1e-3 * expect);
+
+  // The straining stops (L = 0) for one step. "total" reads rate 0 and drops to the static curve
+  // at once; "plastic" relaxes at the plastic rate its overstress implies: the return solves
+  // q - 3 G d = H(eps + d) (1 + C ln(d/dt)), here d/dt ~ 8e3 (3 G d, 1 MPa, lowers the rate term
+  // by 0.3%), so q falls by 0.3% in the step, not by the 23% of the rate term.
+  const StrengthState aHeld = plastic.update(a, Mat3::Zero(), dt, rho);
+  const StrengthState bHeld = total.update(b, Mat3::Zero(), dt, rho);
+  EXPECT_NEAR(vonMisesStress(bHeld.S), total.hardening(bHeld.plasticStrain), 1e-9 * expect);
+  const double dHeld = aHeld.plasticStrain - a.plasticStrain;
+  const double qHeld = vonMisesStress(aHeld.S);
+  EXPECT_NEAR(qHeld, vonMisesStress(a.S) - 3.0 * G * dHeld, 1e-9 * expect);
+  EXPECT_NEAR(qHeld, plastic.hardening(aHeld.plasticStrain) * plastic.rateFactor(dHeld / dt),
+              1e-9 * expect);
+  EXPECT_GT(dHeld / dt, 0.5 * rate);
+  EXPECT_LT(dHeld / dt, rate);
+  EXPECT_GT(qHeld, 0.99 * vonMisesStress(a.S));
+}
+
 TEST(EosDerivatives, DpDrhoMatchesFiniteDifferencesForEveryEos) {
   // (dp/drho)_e of every EOS, checked by central differences on evaluate(); the P-alpha model
   // needs it exact. Tillotson in each of its branches (compressed, cold expanded, blended,
