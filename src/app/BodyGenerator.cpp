@@ -263,12 +263,11 @@ std::vector<BodySummary> generateBodies(const Deck& deck,
       // resolution).
       if (body.shape.type == "cylinder" && body.lattice == "cubic" && !body.lattice_transform) {
         const Vec<Dim> axis = toVec<Dim>(body.shape.axis).normalized();
-        const double layers = body.shape.length / dx;
-        const double nearest = std::round(layers);
+        const double layers = body.shape.length / dx, nearest = std::round(layers);
         const bool odd =
             std::abs(layers - nearest) < 1e-6 * layers && std::fmod(nearest, 2.0) == 1.0;
-        for (int d = 0; d < Dim; ++d)
-          if (odd && std::abs(std::abs(axis[d]) - 1.0) < 1e-12) c += (0.5 * dx) * axis;
+        const bool alongLatticeAxis = std::abs(axis.cwiseAbs().maxCoeff() - 1.0) < 1e-12;
+        if (odd && alongLatticeAxis) c += (0.5 * dx) * axis;
       }
       // |A^-1|_F bounds the operator norm of A^-1 from above: a conservative cover.
       const double radius = shape.extent() * A.inverse().norm();

@@ -102,6 +102,17 @@ def same_state(ref, out, label, tolerance=0.0, same_index=True):
         check(d <= tolerance, f"{label}: final state within {tolerance:g} relative (max {d:.2e})")
 
 
+def stopped_and_restarted(deck, ranks, outs, sets, stop_steps, label):
+    """Runs `sets` through, and again stopped after `stop_steps` steps and restarted from its last
+    checkpoint; the two final states must agree bit for bit. (The first leg's stop wrote a
+    snapshot of its own, so the final snapshots' indices differ.)"""
+    full, half = outs / "full", outs / "half"
+    run(deck, ranks, full, sets)
+    run(deck, ranks, half, [*sets, f"run.max_steps={stop_steps}"])
+    run(deck, ranks, half, sets, restart="latest")
+    same_state(full, half, label, same_index=False)
+
+
 def history(out):
     rows = (out / "history.csv").read_text().splitlines()
     header = rows[0].split(",")
@@ -216,44 +227,27 @@ with tempfile.TemporaryDirectory() as tmp:
     # failed at 38 us). Stopped by step count: an end time of 3.8e-5 would end the first leg a few
     # ulps away from where the uninterrupted run's output times put it, and the steps would differ.
     rod = SRC / "decks/stretching_rod_damage_2d.toml"
-    full, half = tmp / "srd_full", tmp / "srd_half"
-    run(rod, 2, full, ["run.end_time=4e-5"])
-    run(rod, 2, half, ["run.end_time=4e-5", "run.max_steps=4300"])
-    run(rod, 2, half, ["run.end_time=4e-5"], restart="latest")
-    # (The first leg's stop wrote a snapshot of its own: the final one is one further on.)
-    same_state(full, half, "stretching rod (ASPH, tensor damage), 2 ranks, restart mid-failure",
-               same_index=False)
+    stopped_and_restarted(rod, 2, tmp / "srd", ["run.end_time=4e-5"], 4300,
+                          "stretching rod (ASPH, tensor damage), 2 ranks, restart mid-failure")
 
     # The cap model mid-compaction (saturated): eps_v^p, X, porosity and pore pressure are
     # checkpointed; the return after the restart starts from the same state.
     sand = SRC / "decks/sandstone_confined_2d.toml"
     wet = ["run.resolution=0.5", "material.sandstone.strength.fluid_bulk_modulus=2.2e9"]
-    full, half = tmp / "sand_full", tmp / "sand_half"
-    run(sand, 2, full, ["run.end_time=1e-5", *wet])
-    run(sand, 2, half, ["run.end_time=1e-5", "run.max_steps=300", *wet])
-    run(sand, 2, half, ["run.end_time=1e-5", *wet], restart="latest")
-    same_state(full, half, "confined sandstone (cap, pore fluid), 2 ranks, restart mid-compaction",
-               same_index=False)
+    stopped_and_restarted(sand, 2, tmp / "sand", ["run.end_time=1e-5", *wet], 300,
+                          "confined sandstone (cap, pore fluid), 2 ranks, restart mid-compaction")
 
     # P-alpha mid-compaction: the distension is checkpointed; the solve after the restart starts
     # from the same alpha_old.
     pumice = SRC / "decks/pumice_impact_2d.toml"
     coarse = ["run.resolution=0.5", "run.end_time=2e-6"]
-    full, half = tmp / "pum_full", tmp / "pum_half"
-    run(pumice, 2, full, coarse)
-    run(pumice, 2, half, [*coarse, "run.max_steps=80"])
-    run(pumice, 2, half, coarse, restart="latest")
-    same_state(full, half, "pumice impact (P-alpha, flaws), 2 ranks, restart mid-compaction",
-               same_index=False)
+    stopped_and_restarted(pumice, 2, tmp / "pum", coarse, 80,
+                          "pumice impact (P-alpha, flaws), 2 ranks, restart mid-compaction")
     # ... with elastic distension: the plastic distension is checkpointed too.
     elastic = ["run.resolution=0.5", "run.end_time=1.5e-6",
                "material.pumice.porosity.elastic_sound_speed=1000"]
-    full, half = tmp / "pum_el_full", tmp / "pum_el_half"
-    run(pumice, 1, full, elastic)
-    run(pumice, 1, half, [*elastic, "run.max_steps=60"])
-    run(pumice, 1, half, elastic, restart="latest")
-    same_state(full, half, "pumice impact with elastic distension, restart mid-compaction",
-               same_index=False)
+    stopped_and_restarted(pumice, 1, tmp / "pum_el", elastic, 60,
+                          "pumice impact with elastic distension, restart mid-compaction")
 
     # ---- N to M ------------------------------------------------------------------------------
     ckpt = tmp / "half2" / "checkpoints"

@@ -100,6 +100,18 @@ for token in ("alpha0 = 1.4", "elastic_pressure = 2.0e6", "solid_pressure = 1.0e
               "exponent = 2.0", "c0 = 5350.0, s = 1.34, gamma0 = 2.0", "density = 2703.0"):
     check(token in deck_text, f"the deck has {token}")
 
+def crossing(frame, X0, level):
+    """Where the pressure first falls below `level` going out from the wall, in the particles'
+    initial positions (X0: id -> x at t = 0; linear between the two particles either side), and
+    the current position of the first particle below it."""
+    o = np.argsort(frame["position"][:, 0])
+    X = np.array([X0[i] for i in frame["id"][o].tolist()])
+    P = frame["pressure"][o]
+    k = int(np.argmax(P < level))
+    return X[k - 1] + (X[k] - X[k - 1]) * (P[k - 1] - level) / (P[k - 1] - P[k]), \
+        float(frame["position"][o[k], 0])
+
+
 print("up (m/s) | quantity | exact | run | error")
 with tempfile.TemporaryDirectory() as tmp:
     for up in (100.0, 200.0, 1000.0):
@@ -119,16 +131,9 @@ with tempfile.TemporaryDirectory() as tmp:
         d0 = frames[0][0]
         X0 = dict(zip(d0["id"].tolist(), d0["position"][:, 0].tolist()))
 
-        def front(d):
-            o = np.argsort(d["position"][:, 0])
-            X = np.array([X0[i] for i in d["id"][o].tolist()])
-            P = d["pressure"][o]
-            mid = 0.5 * (ref["P"] + PE)
-            k = int(np.argmax(P < mid))
-            return X[k - 1] + (X[k] - X[k - 1]) * (P[k - 1] - mid) / (P[k - 1] - P[k]), \
-                float(d["position"][o[k], 0])
+        mid = 0.5 * (ref["P"] + PE)
         (d3, t3), (d4, t4) = frames[-2], frames[-1]
-        (X3, _), (X4, xs4) = front(d3), front(d4)
+        (X3, _), (X4, xs4) = crossing(d3, X0, mid), crossing(d4, X0, mid)
         U = (X4 - X3) / (t4 - t3)
         x = d4["position"][:, 0]
         band = (x > 0.25 * xs4) & (x < 0.75 * xs4)
@@ -172,11 +177,7 @@ with tempfile.TemporaryDirectory() as tmp:
         X0 = dict(zip(d0["id"].tolist(), d0["position"][:, 0].tolist()))
 
         def wave(d):
-            o = np.argsort(d["position"][:, 0])
-            X = np.array([X0[i] for i in d["id"][o].tolist()])
-            P = d["pressure"][o]
-            k = int(np.argmax(P < 0.5 * Pel))
-            return X[k - 1] + (X[k] - X[k - 1]) * (P[k - 1] - 0.5 * Pel) / (P[k - 1] - P[k])
+            return crossing(d, X0, 0.5 * Pel)[0]
         (d1, t1), (d2, t2) = frames[1], frames[2]  # 4 and 8 us: the wave at 8 and 16 mm
         U = (wave(d2) - wave(d1)) / (t2 - t1)
         x = d2["position"][:, 0]

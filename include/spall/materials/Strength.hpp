@@ -125,10 +125,10 @@ struct JohnsonCook {
       out.S.setZero();
       return out;
     }
-    const double total = plasticRate ? 0.0 : rateFactor(equivalentStrainRate(L));
+    const double totalRateFactor = plasticRate ? 0.0 : rateFactor(equivalentStrainRate(L));
     // The yield stress after a plastic increment d over the step.
     const auto yield = [&](double d) {
-      const double rate = plasticRate ? rateFactor(d / dt) : total;
+      const double rate = plasticRate ? rateFactor(d / dt) : totalRateFactor;
       return hardening(s.plasticStrain + d) * rate * thermal;
     };
     const double q = vonMisesStress(out.S);
