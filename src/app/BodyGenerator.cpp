@@ -207,6 +207,9 @@ std::vector<BodySummary> generateBodies(const Deck& deck,
   const double perSite = static_cast<double>(sizeof(Site)) +
                          1.1 * static_cast<double>(store.bytesPerParticle()) + 4.0 * neighbors;
   double made = 0.0;
+  // Axisymmetric: the sites of the r-z half-plane (r > 0; a shape centred on the axis has its
+  // sites half a spacing off it), each a ring of mass 2 pi r A rho.
+  const bool rz = deck.run.geometry == Geometry::RZ;
   for (std::size_t b = 0; b < deck.bodies.size(); ++b) {
     const BodyConfig& body = deck.bodies[b];
     const Shape<Dim> shape{body.shape};
@@ -274,7 +277,7 @@ std::vector<BodySummary> generateBodies(const Deck& deck,
       const double volume = forEachLatticeSite<Dim>(body.lattice == "hexagonal", dx, radius,
                                                     [&](const Vec<Dim>& site) {
                                                       const Vec<Dim> x = c + A * site;
-                                                      if (shape.contains(x))
+                                                      if (shape.contains(x) && (!rz || x[0] > 0.0))
                                                         out.push_back({x, 0.0});
                                                     });
       for (auto& s : out) s.volume = volume * detA;
@@ -368,6 +371,7 @@ std::vector<BodySummary> generateBodies(const Deck& deck,
         for (int d = 0; d < Dim; ++d)
           xi[d] +=
               body.jitter * dx * hashedUniform(deck.run.seed, k, static_cast<std::uint64_t>(d));
+      if (rz) xi[0] = std::abs(xi[0]); // jitter never takes a ring across the axis
       x[k] = xi;
       v[k] = v0;
       if (body.radial_velocity) {
@@ -385,7 +389,7 @@ std::vector<BodySummary> generateBodies(const Deck& deck,
                            ->gradient[static_cast<std::size_t>(a)][static_cast<std::size_t>(c)] *
                        r[c];
       }
-      m[k] = rho0 * s.volume;
+      m[k] = rho0 * s.volume * (rz ? 2.0 * std::numbers::pi * xi[0] : 1.0);
       rho[k] = rho0;
       e[k] = e0;
       // Initial h from the lattice: n_h sites per smoothing scale.

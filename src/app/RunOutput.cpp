@@ -162,6 +162,7 @@ template <int Dim> void Simulation<Dim>::resolveOutputFields() {
     if (c->info().flags & kOutput) available.push_back(c->info().name);
   available.push_back("smoothing");
   available.push_back("stress");
+  if (Dim == 2) available.push_back("stress_hoop");
   if (f_.damageTensor.valid()) available.push_back("damage_tensor");
   if (deck_.output.fields.empty()) {
     outputFields_ = available;
@@ -220,6 +221,15 @@ template <int Dim> void Simulation<Dim>::writeSnapshot(bool write) {
                               if (!S.empty()) sigma[i] += S[i].template topLeftCorner<Dim, Dim>();
                             }
                           }});
+      } else if (name == "stress_hoop") {
+        // sigma_tt = S_tt - p: rz's hoop stress (plane strain's out-of-plane stress).
+        const auto p = store_[f_.p];
+        const auto S = f_.hasStrength() ? store_[f_.S] : std::span<const Tensor<3>>{};
+        fields.push_back(
+            {FieldInfo{name, ScalarType::F64, {}, kOutput}, nullptr, [p, S, n](void* rows) {
+               auto* out = static_cast<double*>(rows);
+               for (std::size_t i = 0; i < n; ++i) out[i] = -p[i] + (S.empty() ? 0.0 : S[i](2, 2));
+             }});
       } else if (name == "damage_tensor") {
         // Owen's damage tensor, the Dim x Dim block of the 3x3 the material update keeps.
         const auto D = store_[f_.damageTensor];

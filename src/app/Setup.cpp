@@ -226,6 +226,16 @@ methods::SphSetup sphSetup(const Deck& deck) {
   methods::SphSetup s;
   s.solver = deck.solver;
   s.boundaries = deck.boundaries;
+  if (deck.run.geometry == Geometry::RZ) {
+    // The axis: a mirror that folds (solvers/Config.hpp), first, so that the other walls image
+    // its images (the corner where a Taylor bar's axis meets its wall).
+    BoundaryConfig axis;
+    axis.type = "rigid_wall";
+    axis.point = {0.0, 0.0};
+    axis.normal = {1.0, 0.0};
+    axis.fold = true;
+    s.boundaries.insert(s.boundaries.begin(), axis);
+  }
   s.reproducible = deck.decomposition.reproducible;
   s.imbalanceThreshold = deck.decomposition.imbalance_threshold;
   return s;

@@ -60,12 +60,12 @@ std::string infoText() {
   s += fmt::format("Eigen      {}.{}.{}\n", EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION,
                    EIGEN_MINOR_VERSION);
   s += fmt::format("toml++     {}.{}.{}\n", TOML_LIB_MAJOR, TOML_LIB_MINOR, TOML_LIB_PATCH);
-  s += "features   dimensions 1/2/3; solvers: sph; kernels: cubic_spline, wendland_c2, "
-       "wendland_c4;\n"
-       "           density: continuity, summation, normalized_summation; EOS: ideal_gas, linear,\n"
-       "           mie_gruneisen; boundaries: rigid_wall, periodic; output: HDF5 + XDMF, CSV\n"
-       "not yet    multi-rank decomposition, checkpoint/restart, strength, tillotson, asph, mpm,\n"
-       "           spall element, spall history\n";
+  s += "features   dimensions 1/2/3, axisymmetric rz; solvers: sph, asph; kernels: cubic_spline,\n"
+       "           wendland_c2, wendland_c4; EOS: ideal_gas, linear, mie_gruneisen, tillotson,\n"
+       "           p_alpha porosity; strength: elastic, von_mises, johnson_cook, cap; damage:\n"
+       "           grady_kipp, johnson_cook; boundaries: rigid_wall, periodic; MPI decomposition,\n"
+       "           checkpoint/restart; output: HDF5 + XDMF, CSV; spall element, spall history\n"
+       "not yet    mpm, pressure boundaries, bodies inserted in time, penetration output\n";
   return s;
 }
 

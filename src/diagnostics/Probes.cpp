@@ -23,6 +23,8 @@ double fieldValue(const ProbeField& pf, const ParticleStore& s, const ParticleFi
   // Cauchy stress sigma = -p I + S; S = 0 on the hydro path.
   case ProbeField::Kind::Stress:
     return (pf.a == pf.b ? -s[f.p][i] : 0.0) + (f.hasStrength() ? s[f.S][i](pf.a, pf.b) : 0.0);
+  case ProbeField::Kind::HoopStress:
+    return -s[f.p][i] + (f.hasStrength() ? s[f.S][i](2, 2) : 0.0);
   case ProbeField::Kind::Pressure:
     return s[f.p][i];
   case ProbeField::Kind::Density:
@@ -59,6 +61,7 @@ std::vector<std::string> probeFieldNames(int dim, const ParticleStore* store) {
   for (int a = 0; a < dim; ++a) names.push_back(fmt::format("velocity_{}", kAxes[a]));
   for (int a = 0; a < dim; ++a)
     for (int b = 0; b < dim; ++b) names.push_back(fmt::format("stress_{}{}", kAxes[a], kAxes[b]));
+  if (dim == 2) names.emplace_back("stress_hoop");
   for (const char* n : {"pressure", "density", "specific_internal_energy", "sound_speed", "mass",
                         "smoothing_length"})
     names.emplace_back(n);
@@ -84,6 +87,7 @@ ProbeField resolveProbeField(const std::string& name, int dim, const SourceLocat
     return {K::Velocity, axis(name[9]), 0, name};
   if (name.rfind("stress_", 0) == 0 && name.size() == 9 && axis(name[7]) >= 0 && axis(name[8]) >= 0)
     return {K::Stress, axis(name[7]), axis(name[8]), name};
+  if (name == "stress_hoop" && dim == 2) return {K::HoopStress, 0, 0, name};
   if (name == "pressure") return {K::Pressure, 0, 0, name};
   if (name == "density") return {K::Density, 0, 0, name};
   if (name == "specific_internal_energy") return {K::Energy, 0, 0, name};

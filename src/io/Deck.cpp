@@ -75,6 +75,7 @@ private:
   void readBody(const TableReader& r, const std::vector<MaterialConfig>& materials,
                 BodyConfig& b) const;
   void readShape(const TableReader& r, ShapeConfig& s) const;
+  void checkAxisymmetric(const TableReader& r, double centerR, double radius) const;
   void readEnergySource(const TableReader& r, EnergySourceConfig& e) const;
   void readBoundary(const TableReader& r, BoundaryConfig& b) const;
   void readOutput(const TableReader& r, OutputConfig& o, double endTime) const;
@@ -85,6 +86,7 @@ private:
   const toml::table& root_;
   const std::string& path_;
   std::size_t dimension_ = 0;
+  bool rz_ = false; // run.geometry = "rz"
 };
 
 void DeckReader::read(Deck& deck) {
@@ -97,6 +99,7 @@ void DeckReader::read(Deck& deck) {
   readRun(reader(*run, Context{}.child("run")), deck.run);
   if (const auto* t = top.subtable("solver"))
     dd::readSolver(reader(*t, Context{}.child("solver")), deck.solver);
+  deck.solver.geometry = deck.run.geometry;
   if (const auto* t = top.subtable("decomposition"))
     readDecomposition(reader(*t, Context{}.child("decomposition")), deck.decomposition);
 
@@ -177,6 +180,14 @@ void DeckReader::readRun(const TableReader& r, RunConfig& run) {
   r.check(dim >= 1 && dim <= 3, "dimension", "1, 2 or 3", static_cast<double>(dim));
   run.dimension = static_cast<int>(dim);
   dimension_ = static_cast<std::size_t>(dim);
+  if (r.choice("geometry", {"cartesian", "rz"}, "cartesian") == "rz") {
+    if (dim != 2)
+      r.fail("geometry", "geometry 'rz' (axisymmetric: x = r, y = z) needs run.dimension 2 "
+                         "(run.dimension is " +
+                             std::to_string(dim) + ")");
+    run.geometry = Geometry::RZ;
+  }
+  rz_ = run.geometry == Geometry::RZ;
   run.end_time = r.required(r.number("end_time"), "end_time");
   r.check(run.end_time > 0.0, "end_time", "> 0", run.end_time);
   if (const auto v = r.integer("max_steps")) {
@@ -291,6 +302,15 @@ void DeckReader::readBody(const TableReader& r, const std::vector<MaterialConfig
                         "cannot be given a velocity field");
 }
 
+// In geometry 'rz' a round shape is a body of revolution: centred on the axis (a sphere, a
+// shell) or clear of it (a torus); one that straddles the axis would be two bodies in one.
+void DeckReader::checkAxisymmetric(const TableReader& r, double centerR, double radius) const {
+  if (!rz_ || centerR == 0.0 || centerR - radius >= 0.0) return;
+  r.fail("center", r.quoted("center") + " has r = " + dd::formatNumber(centerR) +
+                       ": in geometry 'rz' a round shape is centred on the axis (r = 0) or lies "
+                       "clear of it (r - radius >= 0)");
+}
+
 void DeckReader::readShape(const TableReader& r, ShapeConfig& s) const {
   s.where = r.where();
   s.type = r.choice("type", dd::typeNames("body.shape"), std::nullopt);
@@ -309,10 +329,14 @@ void DeckReader::readShape(const TableReader& r, ShapeConfig& s) const {
         r.fail("max", r.quoted("max") + " must exceed min on every axis (axis " +
                           std::to_string(a) + ": min " + dd::formatNumber(s.min[a]) + ", max " +
                           dd::formatNumber(s.max[a]) + ")");
+    if (rz_ && s.min[0] < 0.0)
+      r.fail("min", r.quoted("min") + " has r = " + dd::formatNumber(s.min[0]) +
+                        " < 0: in geometry 'rz' x is the radius (the axis at r = 0)");
   } else if (s.type == "sphere") {
     s.center = point(r, "center");
     s.radius = r.required(r.number("radius"), "radius");
     r.check(s.radius > 0.0, "radius", "> 0", s.radius);
+    checkAxisymmetric(r, s.center[0], s.radius);
   } else if (s.type == "cylinder") {
     s.base = point(r, "base");
     s.axis = point(r, "axis");
@@ -328,6 +352,7 @@ void DeckReader::readShape(const TableReader& r, ShapeConfig& s) const {
     s.outer_radius = r.required(r.number("outer_radius"), "outer_radius");
     r.check(s.inner_radius < s.outer_radius, "inner_radius",
             "< outer_radius (" + dd::formatNumber(s.outer_radius) + ")", s.inner_radius);
+    checkAxisymmetric(r, s.center[0], s.outer_radius);
   }
 }
 
@@ -351,6 +376,14 @@ void DeckReader::readBoundary(const TableReader& r, BoundaryConfig& b) const {
     const double n = norm(b.normal);
     if (n == 0.0) r.fail("normal", r.quoted("normal") + " must not be the zero vector");
     for (double& x : b.normal) x /= n;
+    // A mirror plane in r-z is a plane (normal along z) or a cylinder (along r); an inclined
+    // one would be a cone, which a mirror image does not model.
+    if (rz_ && b.normal[0] != 0.0 && b.normal[1] != 0.0)
+      r.fail("normal", r.quoted("normal") + " in geometry 'rz' is along r ([1, 0] or [-1, 0]: a "
+                                            "cylindrical wall) or along z (a plane)");
+    if (rz_ && b.normal[0] != 0.0 && b.point[0] <= 0.0)
+      r.fail("point", r.quoted("point") + " of a cylindrical wall in geometry 'rz' needs r > 0 "
+                                          "(the axis is a mirror already)");
   } else { // periodic
     const std::int64_t axis = r.required(r.integer("axis"), "axis");
     r.check(axis >= 0 && axis < static_cast<std::int64_t>(dimension_), "axis",
@@ -358,6 +391,9 @@ void DeckReader::readBoundary(const TableReader& r, BoundaryConfig& b) const {
                 std::to_string(dimension_) + ")",
             static_cast<double>(axis));
     b.axis = static_cast<int>(axis);
+    if (rz_ && axis == 0)
+      r.fail("axis", "a periodic boundary in geometry 'rz' is along z (axis 1); r is bounded "
+                     "by the axis");
     b.min = r.required(r.number("min"), "min");
     b.max = r.required(r.number("max"), "max");
     r.check(b.min < b.max, "max", "> min (" + dd::formatNumber(b.min) + ")", b.max);

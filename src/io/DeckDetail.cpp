@@ -71,7 +71,7 @@ const std::map<std::string, Names, std::less<>>& schema() {
       {"",
        {"run", "solver", "decomposition", "material", "body", "energy_source", "boundary", "output",
         "checkpoint", "probe", "fragments"}},
-      {"run", {"title", "dimension", "end_time", "max_steps", "resolution", "seed"}},
+      {"run", {"title", "dimension", "geometry", "end_time", "max_steps", "resolution", "seed"}},
       {"solver",
        {"method", "kernel", "nodes_per_h", "cfl", "allow_unstable_cfl", "density",
         "artificial_viscosity", "h_min", "h_max", "h_max_ratio", "max_aspect_ratio", "stress_form",

@@ -8,7 +8,7 @@ namespace spall::solvers {
 template <int Dim>
 Boundaries<Dim>::Boundaries(const std::vector<BoundaryConfig>& config, const ParticleStore& s,
                             const ParticleFields<Dim>& f)
-    : x_(f.x) {
+    : x_(f.x), v_(f.v) {
   for (const auto& b : config) {
     if (b.type == "rigid_wall") {
       Wall w;
@@ -17,6 +17,7 @@ Boundaries<Dim>::Boundaries(const std::vector<BoundaryConfig>& config, const Par
         w.normal[d] = b.normal[d];
       }
       w.normal.normalize();
+      w.fold = b.fold;
       walls_.push_back(w);
     } else {
       periodic_.push_back({b.axis, b.min, b.max});
@@ -33,6 +34,16 @@ Boundaries<Dim>::Boundaries(const std::vector<BoundaryConfig>& config, const Par
 
 template <int Dim> void Boundaries<Dim>::wrapPeriodic(ParticleStore& s) const {
   const auto x = s[x_];
+  const auto v = s[v_];
+  for (const auto& w : walls_) {
+    if (!w.fold) continue;
+    for (std::size_t i = 0; i < s.localCount(); ++i) {
+      const double d = (x[i] - w.point).dot(w.normal);
+      if (d >= 0.0) continue;
+      x[i] -= 2.0 * d * w.normal;
+      v[i] -= 2.0 * v[i].dot(w.normal) * w.normal;
+    }
+  }
   for (const auto& pb : periodic_) {
     const double L = pb.max - pb.min;
     for (std::size_t i = 0; i < s.localCount(); ++i) {

@@ -3,6 +3,7 @@
 #include "spall/core/SymmetricEigen.hpp"
 #include "spall/kernels/Kernels.hpp"
 #include "spall/kernels/PsiTable.hpp"
+#include "spall/solvers/Axisymmetric.hpp"
 #include "spall/solvers/CrackedPairs.hpp"
 #include "spall/solvers/IdealH.hpp"
 #include "spall/solvers/SphPairTerms.hpp"
@@ -46,7 +47,7 @@ public:
   void computeDensity(const neighbors::NeighborList& nl) override {
     const auto x = s_[f_.x];
     const auto h = s_[f_.h];
-    const auto m = s_[f_.m];
+    const auto m = planarMass();
     const auto rho = s_[f_.rho];
     const std::size_t n = s_.localCount();
     const bool normalise = cfg_.density == DensityMethod::NormalizedSummation;
@@ -85,7 +86,7 @@ public:
     const bool cracks = markCracks();
     const auto x = s_[f_.x];
     const auto h = s_[f_.h];
-    const auto m = s_[f_.m];
+    const auto m = planarMass();
     const auto rho = s_[f_.rho];
     const auto B = s_[f_.B];
     const double sigma = K::sigma();
@@ -131,7 +132,7 @@ public:
   // the second moments of the same loop.
   void updateSmoothing() override {
     const auto h = s_[f_.h];
-    const auto m = s_[f_.m];
+    const auto m = planarMass();
     const auto rho = s_[f_.rho];
     const auto sumWH = s_[f_.sumWH];
     const SmoothingLimits lim{cfg_.nodes_per_h, cfg_.h_min, cfg_.h_max, cfg_.h_max_ratio,
@@ -198,7 +199,7 @@ private:
     const auto x = s_[f_.x];
     const auto v = s_[f_.v];
     const auto h = s_[f_.h];
-    const auto m = s_[f_.m];
+    const auto m = planarMass();
     const auto rho = s_[f_.rho];
     const auto p = s_[f_.p];
     const auto cs = s_[f_.cs];
@@ -209,6 +210,7 @@ private:
     const auto muMax = s_[f_.muMax];
     const bool balsara = cfg_.artificial_viscosity.balsara;
     const bool product = cfg_.stress_form == StressForm::RhoProduct;
+    [[maybe_unused]] const bool rz = cfg_.geometry == Geometry::RZ;
     const auto divv = balsara ? s_[f_.divv] : std::span<double>{};
     const auto curlv = balsara ? s_[f_.curlv] : std::span<double>{};
     if (balsara) divNew_.resize(s_.localCount()), curlNew_.resize(s_.localCount());
@@ -236,7 +238,10 @@ private:
         for (std::size_t j = 0; j < s_.size(); ++j) {
           const MatD Lj = Lgrad[j].template topLeftCorner<Dim, Dim>();
           strainRate_[j] = 0.5 * (Lj + Lj.transpose());
-          isochoric_[j] = pair::isochoricGate<Dim>(strainRate_[j]);
+          // In rz the volume change includes the hoop rate D_tt = L(2,2): a mushroom's plastic
+          // flow is isochoric in 3D, not in the r-z plane.
+          isochoric_[j] = rz ? pair::isochoricGate<3>(0.5 * (Lgrad[j] + Lgrad[j].transpose()))
+                             : pair::isochoricGate<Dim>(strainRate_[j]);
         }
       }
       if (artificialStress) {
@@ -305,9 +310,13 @@ private:
       // Solids: S_i / rho_i^2 (or S_i / rho_i for the product form) in the Dim x Dim block, and the
       // velocity gradient L_i = -sum_j (m_j/rho_j) v_ij (x) grad_i W_ij.
       [[maybe_unused]] MatD SiOwn, Li, Ri, Bi;
+      // rz: -sum_j V_j x_ij,r g_ij,r with the velocity gradient's and the divergence's kernel
+      // gradients, the normalisation the hoop rate is given (solvers/Axisymmetric.hpp).
+      [[maybe_unused]] double Mrr = 1.0, MrrVolume = 0.0, kr = 0.0, krAS = 0.0;
       if constexpr (Solid) {
         SiOwn = sOverRho_[i]; // S_i/rho_i^2, or S_i/rho_i for the product form
         Li.setZero();
+        Mrr = 0.0;
         Ri = artificialStress ? artificialStress_[i] : MatD::Zero();
       }
       if constexpr (Corrected) Bi = Bcorr[i].template topLeftCorner<Dim, Dim>();
@@ -397,7 +406,17 @@ private:
           qOther = product ? pOther : pOther / (rhoj * rhoj);
         }
         const double sij = sI * rj.s; // 1, or 1/(rho_i rho_j)
-        const double mj = m[j];
+        // rz: the pair's momentum and energy terms weigh Rbar/R_i (solvers/Axisymmetric.hpp);
+        // k_r sums the part the weight adds, for the hoop force.
+        double mj = m[j], wVol = rj.vol;
+        [[maybe_unused]] double w = 1.0;
+        if constexpr (Dim == 2)
+          if (rz) {
+            w = rz::pairWeight(ringR_[i], ringR_[j]);
+            kr += mj * (w - 1.0) * rj.s * gI[0];
+            mj *= w;
+            wVol *= w;
+          }
         if constexpr (Corrected) {
           ai.noalias() -= mj * ((qOwn * sij) * gI + (qOther * sij) * gJ + Pij * gradW);
         } else if constexpr (Solid) {
@@ -427,14 +446,16 @@ private:
             } else {
               const Vec<Dim> tI = SiOwn * gI, tJ = sOverRho_[j] * gJ;
               if (product) {
-                ai.noalias() += rj.vol * tI + (mj * sI) * tJ;
-                dei -= rj.vol * vij.dot(tI);
+                ai.noalias() += wVol * tI + (mj * sI) * tJ;
+                dei -= wVol * vij.dot(tI);
               } else {
                 ai.noalias() += mj * (tI + tJ);
                 dei -= mj * vij.dot(tI);
               }
             }
             Li.noalias() -= rj.vol * (vij * gI.transpose());
+            if constexpr (Dim == 2)
+              if (rz) Mrr -= rj.vol * xij[0] * gI[0];
             if (artificialStress) {
               // Gray, Monaghan & Swift (2001) (Monaghan 2000 for fluids): m_j f_ij^n (R_i + R_j) .
               // grad W in the momentum equation; e_i takes its own share, -m_j f^n v_ij . R_i grad
@@ -445,6 +466,12 @@ private:
               const Vec<Dim> rI = Ri * gI;
               ai.noalias() += (mj * fn) * (rI + artificialStress_[j] * gJ);
               dei -= mj * fn * vij.dot(rI);
+              // rz: R has no hoop part to balance what the weight adds (~ 2 R.k), so the radial
+              // part of that is taken off per particle below, as the hoop force does for sigma:
+              // else a uniform tension pulls the rings next to the axis inward (by half their
+              // speed in a uniform radial stretch).
+              if constexpr (Dim == 2)
+                if (rz) krAS += m[j] * (w - 1.0) * fn * gI[0];
             }
           }
         // Each particle takes its own p dV share of the pair's work and half the viscous
@@ -465,8 +492,12 @@ private:
           if constexpr (Corrected) {
             // -div v_i = trace of the corrected gradient (L_i below): exact for a linear field.
             drhoi += volj * vij.dot(gI);
+            if constexpr (Dim == 2)
+              if (rz) MrrVolume -= volj * xij[0] * gI[0];
           } else {
             drhoi += volj * vij.dot(gradWi);
+            if constexpr (Dim == 2)
+              if (rz) MrrVolume -= volj * xij[0] * gradWi[0];
           }
         }
         if (balsara) {
@@ -475,11 +506,33 @@ private:
           if constexpr (Dim == 3) curli += volj * vij.cross(gradW);
         }
       }
+      // Axisymmetric: the hoop force and rates (solvers/Axisymmetric.hpp).
+      [[maybe_unused]] double Dtt = 0.0;
+      if constexpr (Dim == 2)
+        if (rz) {
+          const double sigmaTT = (Solid ? Sdev[i](2, 2) : 0.0) - p[i];
+          const rz::HoopForce hoop =
+              rz::hoopForce(kr, sigmaTT, product ? 1.0 / rhoi : 1.0 / (rhoi * rhoi), vi[0]);
+          ai[0] += hoop.ar;
+          dei += hoop.dedt;
+          if constexpr (Solid)
+            if (artificialStress) {
+              const double ar = -2.0 * Ri(0, 0) * krAS;
+              ai[0] += ar;
+              dei -= ar * vi[0];
+            }
+          const rz::HoopRates D =
+              rz::hoopRates(vi[0], ringR_[i], MrrVolume, Solid ? Mrr : MrrVolume);
+          drhoi -= D.volume;
+          divi += D.volume;
+          Dtt = D.strain;
+        }
       acc[i] = ai;
       dedt[i] = dei;
       if constexpr (Solid) {
         Lgrad[i].setZero();
         Lgrad[i].template topLeftCorner<Dim, Dim>() = Li;
+        if constexpr (Dim == 2) Lgrad[i](2, 2) = Dtt; // the hoop rate in rz (0 in plane strain)
       }
       // Continuity, d rho_i/dt = -rho_i div v_i with div v_i = -sum_j (m_j/rho_j) v_ij . grad
       // W(r_ij, h_i): volume-weighted, so it stays accurate across a material interface with a
@@ -525,6 +578,23 @@ private:
     if (eta >= K::support || eta == 0.0) return Vec<Dim>::Zero();
     return (row.normGrad * K::df(eta) / eta) * g;
   }
+
+  // The mass the planar loops weigh a row with: m, or in rz the ring's area mass m/(2 pi r) (of
+  // every row, ghosts and axis images included; solvers/Axisymmetric.hpp).
+  std::span<const double> planarMass() {
+    const auto m = s_[f_.m];
+    if (cfg_.geometry != Geometry::RZ) return m;
+    const auto x = s_[f_.x];
+    const auto h = s_[f_.h];
+    areaMass_.resize(s_.size());
+    ringR_.resize(s_.size());
+    for (std::size_t j = 0; j < s_.size(); ++j) {
+      ringR_[j] = rz::radius(x[j][0], h[j]);
+      areaMass_[j] = rz::areaMass(m[j], ringR_[j]);
+    }
+    return areaMass_;
+  }
+  std::vector<double> areaMass_, ringR_; // rz: mu and R of every row
 
   SolverConfig cfg_;
   std::vector<bool> solid_;           // by material: has strength

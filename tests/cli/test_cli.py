@@ -104,6 +104,20 @@ def main():
         t = replace_line(ok, "spacing = 1.0e-4", "spacing = -1.0e-4")
         ln = t.splitlines().index("spacing = -1.0e-4") + 1
         deck_error("negative_spacing", t, ln, 11, ["spacing"], tmp)
+        # Axisymmetric decks: the geometry needs 2D; r >= 0; periodic only along z; a round
+        # shape is centred on the axis or clear of it.
+        rz = ok.replace("dimension = 1", 'dimension = 2\ngeometry = "rz"').replace(
+            "min = [-0.001], max = [0.0]", "min = [0.0, 0.0], max = [0.001, 0.002]").replace(
+            "velocity = [20.0]", "")
+        t = rz.replace("dimension = 2", "dimension = 3")
+        deck_error("rz_dimension", t, 3, 12, ["geometry 'rz'", "run.dimension 2"], tmp)
+        t = replace_line(rz, "min = [0.0, 0.0]", "min = [-0.001, 0.0]")
+        deck_error("rz_negative_r", t, line_of(t, "shape =")[0], 31, ["r = -0.001 < 0"], tmp)
+        t = rz + '[[boundary]]\ntype = "periodic"\naxis = 0\nmin = 0.0\nmax = 0.001\n'
+        deck_error("rz_periodic_r", t, line_of(t, "axis = 0")[0], 8, ["along z"], tmp)
+        t = replace_line(rz, 'type = "box", min = [0.0, 0.0], max = [0.001, 0.002]',
+                         'type = "sphere", center = [0.001, 0.0], radius = 0.002')
+        deck_error("rz_straddles_axis", t, line_of(t, "shape =")[0], 37, ["centred on the axis"], tmp)
         t = replace_line(ok, "end_time = 1.0e-6", "end_time = 1.0e-6\n[solver]\ncfl = 1.5")
         ln = t.splitlines().index("cfl = 1.5") + 1
         deck_error("cfl_range", t, ln, 7, ["cfl"], tmp)

@@ -67,6 +67,10 @@ CASES = [("sod_1d.toml", []), ("rod_impact_copper.toml", ["run.end_time=6e-6"]),
          ("taylor_bar_3d.toml", ["run.resolution=0.4", "run.max_steps=20"]),
          # ASPH in 3D: ellipsoids against the rigid wall (mirrored H) and across ranks
          ("taylor_bar_3d.toml", ["run.resolution=0.4", "run.max_steps=20", "solver.method=asph"]),
+         # axisymmetric: the axis images (and the wall's images of them), ring masses, hoop
+         # terms; SPH and ASPH
+         ("taylor_bar_rz.toml", ["run.end_time=1e-5"]),
+         ("taylor_bar_rz.toml", ["run.end_time=6e-6", "solver.method=asph"]),
          # damage: flaws from (seed, id), damage through the halo, failed pairs, mid-spall
          ("spall_plate_1d.toml", ["run.end_time=2.2e-6"]),
          # 2D damage and fragments: `fragment` (friends of friends across ranks) bit for bit

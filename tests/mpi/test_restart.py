@@ -204,6 +204,10 @@ with tempfile.TemporaryDirectory() as tmp:
     run(rod, 1, half, ["run.end_time=6e-6", "body.striker.velocity=[200.0]"], restart="latest")
     same_state(full, half, "rod impact with strength, T + restart")
 
+    # Axisymmetric, mid-mushroom: ring masses and the hoop stress S_tt (in S) are checkpointed.
+    stopped_and_restarted(SRC / "decks/taylor_bar_rz.toml", 2, tmp / "rz", ["run.end_time=1e-5"],
+                          400, "Taylor bar (rz), 2 ranks, restart mid-flow")
+
     # Damage: a restart mid-failure (the spall plane opens from 1.75 us): damage, the intact
     # stress and the flaw state are checkpointed, the flaws themselves redrawn from (seed, id).
     spall = SRC / "decks/spall_plate_1d.toml"

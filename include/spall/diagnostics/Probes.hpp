@@ -17,6 +17,7 @@ struct ProbeField {
     Position,
     Velocity,
     Stress,
+    HoopStress, // 2D: sigma_tt = S_tt - p (rz: the hoop stress; plane strain: the out-of-plane one)
     Pressure,
     Density,
     Energy,

@@ -17,6 +17,7 @@ namespace spall {
 struct RunConfig {
   std::string title;
   int dimension = 0;
+  Geometry geometry = Geometry::Cartesian; // "rz": axisymmetric (solvers/Config.hpp)
   double end_time = 0.0;
   std::int64_t max_steps = std::numeric_limits<std::int64_t>::max();
   double resolution = 1.0;

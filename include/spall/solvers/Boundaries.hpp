@@ -21,7 +21,8 @@ public:
   Boundaries(const std::vector<BoundaryConfig>& config, const ParticleStore& s,
              const ParticleFields<Dim>& f);
 
-  // Maps owned particles that left a periodic box back into it.
+  // Maps owned particles that left a periodic box back into it, and folds those behind a
+  // folding wall back across it (position and velocity mirrored).
   void wrapPeriodic(ParticleStore& s) const;
   // Appends the mirror image of every particle (owned or ghost) within `reach` of a wall.
   void buildGhosts(ParticleStore& s, double reach);
@@ -33,6 +34,7 @@ public:
 private:
   struct Wall {
     Vec<Dim> point, normal; // normal points into the material
+    bool fold;
   };
   struct Periodic {
     int axis;
@@ -53,7 +55,7 @@ private:
   std::size_t first_ = 0;             // first wall ghost
   std::vector<std::uint32_t> source_; // ghost first_ + k images source_[k]
   std::vector<std::uint32_t> wallOf_; // ... across walls_[wallOf_[k]]
-  Field<Vec<Dim>> x_;
+  Field<Vec<Dim>> x_, v_;
   // The reflected fields by type (the position is reflected across the plane, not listed here).
   std::vector<Field<Vec<Dim>>> vectors_;
   std::vector<Field<Tensor<Dim>>> tensors_;

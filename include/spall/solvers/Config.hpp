@@ -56,6 +56,12 @@ enum class VelocityGradient {
             // 1999)
 };
 
+// run.geometry. RZ: axisymmetric in the r-z half-plane (dimension 2, x = r >= 0, y = z); a
+// particle is a ring, its mass m the ring's (2 pi r times its area times rho). The planar loops
+// run with the area mass m/(2 pi r), the axis is a mirror (images at -r), and the hoop terms
+// are added per particle (solvers/Axisymmetric.hpp).
+enum class Geometry { Cartesian, RZ };
+
 // How particles of different bodies interact.
 enum class Contact {
   Welded,       // like one continuum: bodies touching under tension stick
@@ -83,14 +89,18 @@ struct SolverConfig {
   double h_max_ratio = 2.0;
   // ASPH: the longest axis of the smoothing ellipsoid is at most this many times the shortest.
   double max_aspect_ratio = 10.0;
+  Geometry geometry = Geometry::Cartesian; // from run.geometry
   SourceLocation where;
 };
 
 struct BoundaryConfig {
   std::string type;                  // "rigid_wall" | "periodic"
   std::vector<double> point, normal; // rigid_wall (normal points into the material)
-  int axis = 0;                      // periodic: 0 = x, 1 = y, 2 = z
-  double min = 0.0, max = 0.0;       // periodic
+  // rigid_wall: a particle found behind the plane is folded back (position and velocity
+  // mirrored). The rz axis is such a mirror: a ring cannot have r < 0.
+  bool fold = false;
+  int axis = 0;                // periodic: 0 = x, 1 = y, 2 = z
+  double min = 0.0, max = 0.0; // periodic
   SourceLocation where;
 };
 
