@@ -52,7 +52,8 @@ Simulation<Dim>::Simulation(const Deck& deck, const parallel::MpiContext& mpi)
   method_ = std::make_unique<methods::SphMethod<Dim>>(
       mpi, std::move(setup), materials::MaterialUpdate(materials_, deck_.run.seed),
       std::move(modules), store_, f_, cost_, *decomposition_);
-  probes_ = std::make_unique<diagnostics::Probes<Dim>>(deck.probes, store_);
+  probes_ = std::make_unique<diagnostics::Probes<Dim>>(deck.probes, store_,
+                                                       deck.run.geometry == Geometry::RZ);
   resolveOutputFields();
 }
 

@@ -1,6 +1,7 @@
 #include "spall/diagnostics/Probes.hpp"
 
 #include "spall/kernels/Kernels.hpp"
+#include "spall/solvers/Axisymmetric.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -105,7 +106,9 @@ ProbeField resolveProbeField(const std::string& name, int dim, const SourceLocat
 }
 
 template <int Dim>
-Probes<Dim>::Probes(const std::vector<ProbeConfig>& config, const ParticleStore& store) {
+Probes<Dim>::Probes(const std::vector<ProbeConfig>& config, const ParticleStore& store,
+                    bool axisymmetric)
+    : axisymmetric_(axisymmetric) {
   for (const auto& c : config) {
     Probe p{c, {}, 0, 0};
     for (const auto& name : c.fields)
@@ -171,7 +174,10 @@ std::vector<ProbeSample> Probes<Dim>::sample(const ParticleStore& s, const Parti
       for (std::size_t i = 0; i < s.localCount(); ++i) {
         const double r = (x[i] - at).norm();
         if (r >= support * h[i]) continue;
-        const double w = m[i] / rho[i] * W::W(r, h[i]);
+        // The kernel average over volumes: in rz the particle's area in the r-z plane.
+        const double mass =
+            axisymmetric_ ? solvers::rz::areaMass(m[i], solvers::rz::radius(x[i][0], h[i])) : m[i];
+        const double w = mass / rho[i] * W::W(r, h[i]);
         for (std::size_t k = 0; k < p.fields.size(); ++k)
           acc[k] += w * fieldValue(p.fields[k], s, f, i);
         acc.back() += w;

@@ -46,7 +46,9 @@ struct ProbeSample {
 
 template <int Dim> class Probes {
 public:
-  Probes(const std::vector<ProbeConfig>& config, const ParticleStore& store);
+  // axisymmetric: space probes weigh a particle by its area m/(2 pi r rho), not its ring volume.
+  Probes(const std::vector<ProbeConfig>& config, const ParticleStore& store,
+         bool axisymmetric = false);
   // Material probes pick their particle (global nearest, lowest id on ties).
   void attach(const ParticleStore& s, const ParticleFields<Dim>& f,
               const parallel::MpiContext& mpi);
@@ -69,6 +71,7 @@ public:
   std::size_t size() const { return probes_.size(); }
 
 private:
+  bool axisymmetric_;
   struct Probe {
     ProbeConfig config;
     std::vector<ProbeField> fields;
