@@ -348,7 +348,8 @@ void Simulation<Dim>::finish(RunLog& log, const RunOptions& options, Clock::time
   const auto& t = last_;
   const double massErr = std::abs(t.mass - totals0_.mass) / totals0_.mass;
   double momScale = 0.0, momErr = 0.0;
-  for (int d = 0; d < 3; ++d) {
+  // In rz the sum of m v_r is no conserved quantity (the hoop force is radial): z only.
+  for (int d = deck_.run.geometry == Geometry::RZ ? 1 : 0; d < 3; ++d) {
     momScale = std::max(
         {momScale, std::abs(totals0_.momentum[d]), t.momentumScale[d], totals0_.momentumScale[d]});
     momErr = std::max(momErr, std::abs(t.momentum[d] - totals0_.momentum[d]));
