@@ -183,18 +183,180 @@ std::vector<std::int32_t> contactGroups(std::span<const Vec<Dim>> x,
   return root;
 }
 
+template <int Dim> struct Site {
+  Vec<Dim> x;
+  double volume;
+};
+
+// The lattice sites of a body's shape and the volume each stands for (run.resolution applied;
+// rz: the half-plane's sites, r > 0).
+template <int Dim> std::vector<Site<Dim>> latticeSites(const Deck& deck, const BodyConfig& body) {
+  const Shape<Dim> shape{body.shape};
+  const double dx = body.spacing / deck.run.resolution;
+  const bool rz = deck.run.geometry == Geometry::RZ;
+  Tensor<Dim> A = Tensor<Dim>::Identity();
+  if (body.lattice_transform)
+    for (int r = 0; r < Dim; ++r)
+      for (int c = 0; c < Dim; ++c) A(r, c) = (*body.lattice_transform)[r][c];
+  const double detA = std::abs(A.determinant());
+  std::vector<Site<Dim>> out;
+  if (body.shape.type == "box" && body.lattice == "cubic" && !body.lattice_transform) {
+    // Fill the box exactly: n_k = round(L_k/dx) cells, spacing adjusted to L_k/n_k.
+    Vec<Dim> lo = toVec<Dim>(body.shape.min), hi = toVec<Dim>(body.shape.max), step;
+    std::int64_t n[3] = {1, 1, 1};
+    double volume = 1.0;
+    for (int d = 0; d < Dim; ++d) {
+      // Thinner than half a spacing: no particles (as for every other shape).
+      n[d] = (hi[d] - lo[d]) / dx < 0.5 ? 0 : std::llround((hi[d] - lo[d]) / dx);
+      step[d] = (hi[d] - lo[d]) / static_cast<double>(n[d]);
+      volume *= step[d];
+    }
+    for (std::int64_t k = 0; k < n[2]; ++k)
+      for (std::int64_t j = 0; j < n[1]; ++j)
+        for (std::int64_t i = 0; i < n[0]; ++i) {
+          Vec<Dim> x;
+          x[0] = lo[0] + (static_cast<double>(i) + 0.5) * step[0];
+          if constexpr (Dim >= 2) x[1] = lo[1] + (static_cast<double>(j) + 0.5) * step[1];
+          if constexpr (Dim == 3) x[2] = lo[2] + (static_cast<double>(k) + 0.5) * step[2];
+          out.push_back({x, volume});
+        }
+  } else {
+    // The lattice is mapped by A about the shape centre, so cover the preimage of the shape.
+    Vec<Dim> c = shape.center();
+    // A cylinder along a lattice axis whose length is an odd number of spacings: the sites'
+    // half-integer offsets about the centre would put layers on both end planes (one kept,
+    // one not, by rounding); half a spacing along the axis puts them half a spacing inside,
+    // as for an even count (a Taylor bar then starts in contact with its wall at any
+    // resolution).
+    if (body.shape.type == "cylinder" && body.lattice == "cubic" && !body.lattice_transform) {
+      const Vec<Dim> axis = toVec<Dim>(body.shape.axis).normalized();
+      const double layers = body.shape.length / dx, nearest = std::round(layers);
+      const bool odd = std::abs(layers - nearest) < 1e-6 * layers && std::fmod(nearest, 2.0) == 1.0;
+      const bool alongLatticeAxis = std::abs(axis.cwiseAbs().maxCoeff() - 1.0) < 1e-12;
+      if (odd && alongLatticeAxis) c += (0.5 * dx) * axis;
+    }
+    // |A^-1|_F bounds the operator norm of A^-1 from above: a conservative cover.
+    const double radius = shape.extent() * A.inverse().norm();
+    const double volume =
+        forEachLatticeSite<Dim>(body.lattice == "hexagonal", dx, radius, [&](const Vec<Dim>& site) {
+          const Vec<Dim> x = c + A * site;
+          if (shape.contains(x) && (!rz || x[0] > 0.0)) out.push_back({x, 0.0});
+        });
+    for (auto& s : out) s.volume = volume * detA;
+  }
+  return out;
+}
+
+// Body b's particles in rows [row, row + sites.size()), ids from firstId (the t = 0 numbering):
+// position (with jitter drawn from the seed and the id), velocity, mass, density, energy, h,
+// material and body; returns the body's mass.
+template <int Dim>
+double fillBody(const Deck& deck, const std::vector<materials::Material>& materials, std::size_t b,
+                std::span<const Site<Dim>> sites, std::size_t row, ParticleId firstId,
+                ParticleStore& store, const ParticleFields<Dim>& f) {
+  const bool rz = deck.run.geometry == Geometry::RZ;
+  auto id = store[f.id];
+  auto x = store[f.x];
+  auto v = store[f.v];
+  auto m = store[f.m];
+  auto rho = store[f.rho];
+  auto e = store[f.e];
+  auto h = store[f.h];
+  auto mat = store[f.material];
+  auto bod = store[f.body];
+  const BodyConfig& body = deck.bodies[b];
+  const MaterialConfig& material = deck.materials[static_cast<std::size_t>(body.material_index)];
+  const materials::Material& model = materials[static_cast<std::size_t>(body.material_index)];
+  // A porous material's density is its matrix's: the body starts at distension alpha0.
+  const double alpha0 = model.porosity ? model.porosity->alpha0 : 1.0;
+  double rho0 = body.initial_density.value_or(material.density / alpha0);
+  double e0 = body.initial_specific_energy.value_or(0.0);
+  if (body.initial_pressure && model.cap) {
+    // A cap material's pressure is its elastic strain's: the start density carries it.
+    if (body.initial_density)
+      throw DeckError(body.where, fmt::format("body '{}': initial_pressure and "
+                                              "initial_density both set the density of a "
+                                              "'cap' material; give one",
+                                              body.name));
+    const auto rho = model.cap->densityForPressure(*body.initial_pressure);
+    if (!rho)
+      throw DeckError(body.where,
+                      fmt::format("body '{}': initial_pressure {:g} Pa puts material '{}' "
+                                  "outside its yield surface (the cap starts at I1 = "
+                                  "crush_p0; the tensile vertex is peak_i1)",
+                                  body.name, *body.initial_pressure, material.name));
+    rho0 = *rho;
+  } else if (body.initial_pressure) {
+    // With elastic distension the pressure has closed pores already: alpha = alpha0 + a P0
+    // (materials/Porosity.hpp, Eq. 2), which the first evaluation finds again.
+    const double P0 = *body.initial_pressure;
+    const double alpha = model.porosity && model.porosity->elastic()
+                             ? alpha0 + model.porosity->elasticSlope(alpha0) * P0
+                             : alpha0;
+    const auto ep = std::visit(
+        [&](const auto& eos) { // P = P_eos(alpha rho, e) / alpha
+          return eos.energyForPressure(alpha * rho0, alpha * P0);
+        },
+        model.eos);
+    if (!ep) {
+      throw DeckError(body.where, fmt::format("body '{}': initial_pressure cannot be set with the "
+                                              "'{}' EOS of material '{}' (its pressure does not "
+                                              "depend on the internal energy); use initial_density",
+                                              body.name, material.eos.type, material.name));
+    }
+    e0 = *ep;
+  }
+  const Vec<Dim> v0 = toVec<Dim>(body.velocity);
+  const double dx = body.spacing / deck.run.resolution;
+  double mass = 0.0;
+  std::size_t k = row;
+  for (const auto& s : sites) {
+    const ParticleId idk = firstId + (k - row);
+    id[k] = idk;
+    Vec<Dim> xi = s.x;
+    if (body.jitter > 0.0)
+      for (int d = 0; d < Dim; ++d)
+        xi[d] +=
+            body.jitter * dx * hashedUniform(deck.run.seed, idk, static_cast<std::uint64_t>(d));
+    if (rz) xi[0] = std::abs(xi[0]); // jitter never takes a ring across the axis
+    x[k] = xi;
+    v[k] = v0;
+    if (body.radial_velocity) {
+      const Vec<Dim> r = xi - toVec<Dim>(body.radial_velocity->center);
+      const double rn = r.norm();
+      if (rn > 0.0) v[k] += body.radial_velocity->speed / rn * r;
+    }
+    if (body.cantilever_velocity)
+      v[k][1] += cantileverModeVelocity(*body.cantilever_velocity, xi[0]);
+    if (body.linear_velocity) { // v += G (x - c): a homogeneous stretch, shear or spin
+      const Vec<Dim> r = xi - toVec<Dim>(body.linear_velocity->center);
+      for (int a = 0; a < Dim; ++a)
+        for (int c = 0; c < Dim; ++c)
+          v[k][a] += body.linear_velocity
+                         ->gradient[static_cast<std::size_t>(a)][static_cast<std::size_t>(c)] *
+                     r[c];
+    }
+    m[k] = rho0 * s.volume * (rz ? 2.0 * std::numbers::pi * xi[0] : 1.0);
+    rho[k] = rho0;
+    e[k] = e0;
+    // Initial h from the lattice: n_h sites per smoothing scale.
+    h[k] = deck.solver.nodes_per_h * std::pow(s.volume, 1.0 / Dim);
+    mat[k] = body.material_index;
+    bod[k] = static_cast<std::int32_t>(b);
+    mass += m[k];
+    ++k;
+  }
+  return mass;
+}
+
 } // namespace
 
 template <int Dim>
 std::vector<BodySummary> generateBodies(const Deck& deck,
                                         const std::vector<materials::Material>& materials,
                                         ParticleStore& store, const ParticleFields<Dim>& f) {
-  struct Site {
-    Vec<Dim> x;
-    double volume;
-  };
   std::vector<BodySummary> summary;
-  std::vector<std::vector<Site>> sites(deck.bodies.size());
+  std::vector<std::vector<Site<Dim>>> sites(deck.bodies.size());
   std::size_t total = 0;
   // Every rank makes every particle once: what the lattices visit must fit in this rank's share
   // of the memory, or the deck asks for more than the machine has (a misplaced exponent).
@@ -204,12 +366,9 @@ std::vector<BodySummary> generateBodies(const Deck& deck,
       std::pow(4.0 * deck.solver.nodes_per_h, Dim) * (Dim == 3   ? std::numbers::pi / 6.0
                                                       : Dim == 2 ? std::numbers::pi / 4.0
                                                                  : 1.0);
-  const double perSite = static_cast<double>(sizeof(Site)) +
+  const double perSite = static_cast<double>(sizeof(Site<Dim>)) +
                          1.1 * static_cast<double>(store.bytesPerParticle()) + 4.0 * neighbors;
   double made = 0.0;
-  // Axisymmetric: the sites of the r-z half-plane (r > 0; a shape centred on the axis has its
-  // sites half a spacing off it), each a ring of mass 2 pi r A rho.
-  const bool rz = deck.run.geometry == Geometry::RZ;
   for (std::size_t b = 0; b < deck.bodies.size(); ++b) {
     const BodyConfig& body = deck.bodies[b];
     const Shape<Dim> shape{body.shape};
@@ -236,61 +395,19 @@ std::vector<BodySummary> generateBodies(const Deck& deck,
                                   "{:.3g} times smaller than the shape",
                                   body.name, dx, across));
     auto& out = sites[b];
-    if (body.shape.type == "box" && body.lattice == "cubic" && !body.lattice_transform) {
-      // Fill the box exactly: n_k = round(L_k/dx) cells, spacing adjusted to L_k/n_k.
-      Vec<Dim> lo = toVec<Dim>(body.shape.min), hi = toVec<Dim>(body.shape.max), step;
-      std::int64_t n[3] = {1, 1, 1};
-      double volume = 1.0;
-      for (int d = 0; d < Dim; ++d) {
-        // Thinner than half a spacing: no particles (as for every other shape).
-        n[d] = (hi[d] - lo[d]) / dx < 0.5 ? 0 : std::llround((hi[d] - lo[d]) / dx);
-        step[d] = (hi[d] - lo[d]) / static_cast<double>(n[d]);
-        volume *= step[d];
-      }
-      for (std::int64_t k = 0; k < n[2]; ++k)
-        for (std::int64_t j = 0; j < n[1]; ++j)
-          for (std::int64_t i = 0; i < n[0]; ++i) {
-            Vec<Dim> x;
-            x[0] = lo[0] + (static_cast<double>(i) + 0.5) * step[0];
-            if constexpr (Dim >= 2) x[1] = lo[1] + (static_cast<double>(j) + 0.5) * step[1];
-            if constexpr (Dim == 3) x[2] = lo[2] + (static_cast<double>(k) + 0.5) * step[2];
-            out.push_back({x, volume});
-          }
-    } else {
-      // The lattice is mapped by A about the shape centre, so cover the preimage of the shape.
-      Vec<Dim> c = shape.center();
-      // A cylinder along a lattice axis whose length is an odd number of spacings: the sites'
-      // half-integer offsets about the centre would put layers on both end planes (one kept,
-      // one not, by rounding); half a spacing along the axis puts them half a spacing inside,
-      // as for an even count (a Taylor bar then starts in contact with its wall at any
-      // resolution).
-      if (body.shape.type == "cylinder" && body.lattice == "cubic" && !body.lattice_transform) {
-        const Vec<Dim> axis = toVec<Dim>(body.shape.axis).normalized();
-        const double layers = body.shape.length / dx, nearest = std::round(layers);
-        const bool odd =
-            std::abs(layers - nearest) < 1e-6 * layers && std::fmod(nearest, 2.0) == 1.0;
-        const bool alongLatticeAxis = std::abs(axis.cwiseAbs().maxCoeff() - 1.0) < 1e-12;
-        if (odd && alongLatticeAxis) c += (0.5 * dx) * axis;
-      }
-      // |A^-1|_F bounds the operator norm of A^-1 from above: a conservative cover.
-      const double radius = shape.extent() * A.inverse().norm();
-      const double volume = forEachLatticeSite<Dim>(body.lattice == "hexagonal", dx, radius,
-                                                    [&](const Vec<Dim>& site) {
-                                                      const Vec<Dim> x = c + A * site;
-                                                      if (shape.contains(x) && (!rz || x[0] > 0.0))
-                                                        out.push_back({x, 0.0});
-                                                    });
-      for (auto& s : out) s.volume = volume * detA;
-    }
+    out = latticeSites<Dim>(deck, body);
     if (out.empty()) {
       throw DeckError(body.where,
                       fmt::format("body '{}' has no particles: its shape is smaller than "
                                   "the spacing {:g} m (after run.resolution)",
                                   body.name, dx));
     }
-    // Overlap: a particle of this body inside an earlier body's shape.
-    if (!body.allow_overlap) {
+    // Overlap: a particle of this body inside an earlier body's shape. Not for a body that
+    // joins later (a jet's segments enter where the one before them was): where the others are
+    // then is for the run to know.
+    if (!body.allow_overlap && !(body.insert_time > 0.0)) {
       for (std::size_t o = 0; o < b; ++o) {
+        if (deck.bodies[o].insert_time > 0.0) continue;
         const Shape<Dim> other{deck.bodies[o].shape};
         for (const auto& s : out) {
           if (other.contains(s.x)) {
@@ -308,107 +425,47 @@ std::vector<BodySummary> generateBodies(const Deck& deck,
   }
 
   store.resizeLocal(total);
-  auto id = store[f.id];
-  auto x = store[f.x];
-  auto v = store[f.v];
-  auto m = store[f.m];
-  auto rho = store[f.rho];
-  auto e = store[f.e];
-  auto h = store[f.h];
-  auto mat = store[f.material];
-  auto bod = store[f.body];
   std::size_t k = 0;
   for (std::size_t b = 0; b < deck.bodies.size(); ++b) {
-    const BodyConfig& body = deck.bodies[b];
-    const MaterialConfig& material = deck.materials[static_cast<std::size_t>(body.material_index)];
-    const materials::Material& model = materials[static_cast<std::size_t>(body.material_index)];
-    // A porous material's density is its matrix's: the body starts at distension alpha0.
-    const double alpha0 = model.porosity ? model.porosity->alpha0 : 1.0;
-    double rho0 = body.initial_density.value_or(material.density / alpha0);
-    double e0 = body.initial_specific_energy.value_or(0.0);
-    if (body.initial_pressure && model.cap) {
-      // A cap material's pressure is its elastic strain's: the start density carries it.
-      if (body.initial_density)
-        throw DeckError(body.where, fmt::format("body '{}': initial_pressure and "
-                                                "initial_density both set the density of a "
-                                                "'cap' material; give one",
-                                                body.name));
-      const auto rho = model.cap->densityForPressure(*body.initial_pressure);
-      if (!rho)
-        throw DeckError(body.where,
-                        fmt::format("body '{}': initial_pressure {:g} Pa puts material '{}' "
-                                    "outside its yield surface (the cap starts at I1 = "
-                                    "crush_p0; the tensile vertex is peak_i1)",
-                                    body.name, *body.initial_pressure, material.name));
-      rho0 = *rho;
-    } else if (body.initial_pressure) {
-      // With elastic distension the pressure has closed pores already: alpha = alpha0 + a P0
-      // (materials/Porosity.hpp, Eq. 2), which the first evaluation finds again.
-      const double P0 = *body.initial_pressure;
-      const double alpha = model.porosity && model.porosity->elastic()
-                               ? alpha0 + model.porosity->elasticSlope(alpha0) * P0
-                               : alpha0;
-      const auto ep = std::visit(
-          [&](const auto& eos) { // P = P_eos(alpha rho, e) / alpha
-            return eos.energyForPressure(alpha * rho0, alpha * P0);
-          },
-          model.eos);
-      if (!ep) {
-        throw DeckError(body.where,
-                        fmt::format("body '{}': initial_pressure cannot be set with the "
-                                    "'{}' EOS of material '{}' (its pressure does not "
-                                    "depend on the internal energy); use initial_density",
-                                    body.name, material.eos.type, material.name));
-      }
-      e0 = *ep;
-    }
-    const Vec<Dim> v0 = toVec<Dim>(body.velocity);
-    const double dx = summary[b].spacing;
-    for (const auto& s : sites[b]) {
-      id[k] = k;
-      Vec<Dim> xi = s.x;
-      if (body.jitter > 0.0)
-        for (int d = 0; d < Dim; ++d)
-          xi[d] +=
-              body.jitter * dx * hashedUniform(deck.run.seed, k, static_cast<std::uint64_t>(d));
-      if (rz) xi[0] = std::abs(xi[0]); // jitter never takes a ring across the axis
-      x[k] = xi;
-      v[k] = v0;
-      if (body.radial_velocity) {
-        const Vec<Dim> r = xi - toVec<Dim>(body.radial_velocity->center);
-        const double rn = r.norm();
-        if (rn > 0.0) v[k] += body.radial_velocity->speed / rn * r;
-      }
-      if (body.cantilever_velocity)
-        v[k][1] += cantileverModeVelocity(*body.cantilever_velocity, xi[0]);
-      if (body.linear_velocity) { // v += G (x - c): a homogeneous stretch, shear or spin
-        const Vec<Dim> r = xi - toVec<Dim>(body.linear_velocity->center);
-        for (int a = 0; a < Dim; ++a)
-          for (int c = 0; c < Dim; ++c)
-            v[k][a] += body.linear_velocity
-                           ->gradient[static_cast<std::size_t>(a)][static_cast<std::size_t>(c)] *
-                       r[c];
-      }
-      m[k] = rho0 * s.volume * (rz ? 2.0 * std::numbers::pi * xi[0] : 1.0);
-      rho[k] = rho0;
-      e[k] = e0;
-      // Initial h from the lattice: n_h sites per smoothing scale.
-      h[k] = deck.solver.nodes_per_h * std::pow(s.volume, 1.0 / Dim);
-      mat[k] = body.material_index;
-      bod[k] = static_cast<std::int32_t>(b);
-      summary[b].mass += m[k];
-      ++k;
-    }
+    summary[b].mass = fillBody<Dim>(deck, materials, b, sites[b], k, k, store, f);
+    k += sites[b].size();
   }
+  // Bodies that join the run later (insert_time) were made for their count and mass; they
+  // leave the store until their time (insertBody).
+  std::vector<std::uint32_t> present;
+  present.reserve(total);
+  for (std::size_t i = 0; i < total; ++i)
+    if (!(deck.bodies[static_cast<std::size_t>(store[f.body][i])].insert_time > 0.0))
+      present.push_back(static_cast<std::uint32_t>(i));
+  if (present.size() < total) store.keepLocal(present);
+  const auto x = store[f.x];
+  const auto bod = store[f.body];
+  const std::size_t kept = store.localCount();
   if (f.contactGroup.valid()) {
     std::vector<double> spacing;
     for (const auto& b : summary) spacing.push_back(b.spacing);
-    const auto group = contactGroups<Dim>(x.first(total), bod.first(total), spacing,
+    const auto group = contactGroups<Dim>(x.first(kept), bod.first(kept), spacing,
                                           deck.solver.contact == Contact::Auto);
     auto g = store[f.contactGroup];
-    for (std::size_t i = 0; i < total; ++i) g[i] = group[static_cast<std::size_t>(bod[i])];
+    for (std::size_t i = 0; i < kept; ++i) g[i] = group[static_cast<std::size_t>(bod[i])];
   }
   return summary;
+}
+
+template <int Dim>
+std::size_t insertBody(const Deck& deck, const std::vector<materials::Material>& materials,
+                       std::size_t b, ParticleId firstId, ParticleStore& store,
+                       const ParticleFields<Dim>& f) {
+  const std::vector<Site<Dim>> sites = latticeSites<Dim>(deck, deck.bodies[b]);
+  const std::size_t row = store.appendLocal(sites.size());
+  store.zeroRows(row, sites.size());
+  fillBody<Dim>(deck, materials, b, sites, row, firstId, store, f);
+  // Its own contact group: frictionless against everything, as bodies that did not touch at
+  // t = 0 are.
+  if (f.contactGroup.valid())
+    for (std::size_t i = row; i < store.localCount(); ++i)
+      store[f.contactGroup][i] = static_cast<std::int32_t>(b);
+  return sites.size();
 }
 
 // The first bending mode of a clamped-free beam (Euler-Bernoulli; the initial condition of Gray,
@@ -460,7 +517,10 @@ void applyEnergySources(const Deck& deck, ParticleStore& store, const ParticleFi
   template std::vector<BodySummary> generateBodies<D>(const Deck&,                                 \
                                                       const std::vector<materials::Material>&,     \
                                                       ParticleStore&, const ParticleFields<D>&);   \
-  template void applyEnergySources<D>(const Deck&, ParticleStore&, const ParticleFields<D>&);
+  template void applyEnergySources<D>(const Deck&, ParticleStore&, const ParticleFields<D>&);      \
+  template std::size_t insertBody<D>(const Deck&, const std::vector<materials::Material>&,         \
+                                     std::size_t, ParticleId, ParticleStore&,                      \
+                                     const ParticleFields<D>&);
 SPALL_INSTANTIATE(1)
 SPALL_INSTANTIATE(2)
 SPALL_INSTANTIATE(3)

@@ -20,6 +20,7 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* kFragmentsHeader = "time,fragment,particles,mass,x,y,z,vx,vy,vz";
+constexpr const char* kPenetrationHeader = "time,depth,rate,tip_velocity";
 
 struct HistoryRow {
   std::int64_t step = 0;
@@ -136,6 +137,7 @@ template <int Dim> void Simulation<Dim>::openLogs(const fs::path& dir, bool resu
       truncateHistory(dir / "history.csv", step_);
       truncateProbes(dir / "probes.csv", time_);
       truncateProbes(dir / "fragments.csv", time_); // rows start with the time too
+      truncateProbes(dir / "penetration.csv", time_);
       removeSnapshotsFrom(dir / "snapshots", snapshotIndex_);
       io::writeSeriesXdmf((dir / "snapshots" / "series.xmf").string(), series_);
       removeStaleTemporaries(dir / "checkpoints");
@@ -144,12 +146,17 @@ template <int Dim> void Simulation<Dim>::openLogs(const fs::path& dir, bool resu
         probesCsv_ = io::CsvLog::append((dir / "probes.csv").string(), "time,probe,field,value");
       if (deck_.fragments)
         fragmentsCsv_ = io::CsvLog::append((dir / "fragments.csv").string(), kFragmentsHeader);
+      if (penetration_)
+        penetrationCsv_ =
+            io::CsvLog::append((dir / "penetration.csv").string(), kPenetrationHeader);
     } else {
       history_ = io::CsvLog((dir / "history.csv").string(), historyHeader);
       if (!probes_->empty())
         probesCsv_ = io::CsvLog((dir / "probes.csv").string(), "time,probe,field,value");
       if (deck_.fragments)
         fragmentsCsv_ = io::CsvLog((dir / "fragments.csv").string(), kFragmentsHeader);
+      if (penetration_)
+        penetrationCsv_ = io::CsvLog((dir / "penetration.csv").string(), kPenetrationHeader);
     }
   }
   MPI_Barrier(mpi_.comm());
@@ -192,6 +199,7 @@ template <int Dim> void Simulation<Dim>::writeSnapshot(bool write) {
   method_->stats().phases.time(methods::kOutput, [&] {
     if (!write) return advanceSnapshotClock(fmt::format("snap_{:06d}", snapshotIndex_));
     if (deck_.fragments) writeFragments();
+    if (penetration_) writePenetration();
     const std::size_t n = store_.localCount();
     std::vector<io::SnapshotField> fields;
     std::vector<FieldInfo> infos;
@@ -275,6 +283,16 @@ template <int Dim> void Simulation<Dim>::writeFragments() {
   fragmentsCsv_.flush();
 }
 
+// A row of penetration.csv at every history row and snapshot (once per time).
+template <int Dim> void Simulation<Dim>::writePenetration() {
+  if (time_ == lastPenetrationTime_) return;
+  lastPenetrationTime_ = time_;
+  const auto row = penetration_->measure(time_, store_, f_, mpi_);
+  if (!row || !penetrationCsv_.open()) return;
+  penetrationCsv_.row(fmt::format("{:.17g},{:.17g},{:.17g},{:.17g}", row->time, row->depth,
+                                  row->rate, row->tipVelocity));
+}
+
 // The bookkeeping of a snapshot (kept on every rank alike: it is part of the checkpointed state).
 // A replay (RunFailure.cpp) does it without writing the files again: the snapshot times set the
 // steps, so the replay's steps stay the run's.
@@ -305,6 +323,7 @@ void Simulation<Dim>::record(double dt, std::int64_t step, Clock::time_point wal
         line += (line.empty() ? "" : ",") + value;
       history_.row(line);
     }
+    if (penetration_) writePenetration();
     if (!probes_->empty()) {
       const auto samples = probes_->sample(store_, f_, mpi_, method_->support());
       if (probesCsv_.open())

@@ -21,12 +21,7 @@ namespace fs = std::filesystem;
 template <int Dim>
 Simulation<Dim>::Simulation(const Deck& deck, const parallel::MpiContext& mpi)
     : deck_(deck), mpi_(mpi), materials_(buildMaterials(deck)) {
-  for (const auto& b : deck.bodies) {
-    if (b.insert_time > 0.0)
-      throw DeckError(b.where, fmt::format("body '{}': insert_time arrives with the penetration "
-                                           "work and is not available yet",
-                                           b.name));
-  }
+  for (const auto& b : deck.bodies) waiting_.push_back(b.insert_time > 0.0 ? 1 : 0);
   baselineRss_ = residentBytes();
   // The modules register their fields, in list order (strength fields only where a deck has a
   // solid, and so on).
@@ -54,6 +49,19 @@ Simulation<Dim>::Simulation(const Deck& deck, const parallel::MpiContext& mpi)
       std::move(modules), store_, f_, cost_, *decomposition_);
   probes_ = std::make_unique<diagnostics::Probes<Dim>>(deck.probes, store_,
                                                        deck.run.geometry == Geometry::RZ);
+  if (const auto& pc = deck.penetration) {
+    std::vector<char> penetrator(deck.bodies.size(), 0);
+    for (std::size_t b = 0; b < deck.bodies.size(); ++b)
+      penetrator[b] = std::find(pc->penetrator.begin(), pc->penetrator.end(),
+                                deck.bodies[b].name) != pc->penetrator.end();
+    Vec<Dim> surface, direction;
+    for (int d = 0; d < Dim; ++d) {
+      surface[d] = pc->surface[static_cast<std::size_t>(d)];
+      direction[d] = pc->direction[static_cast<std::size_t>(d)];
+    }
+    penetration_ = std::make_unique<diagnostics::PenetrationGauge<Dim>>(
+        std::move(penetrator), surface, direction, method_->support());
+  }
   resolveOutputFields();
 }
 
@@ -95,8 +103,8 @@ template <int Dim> void Simulation<Dim>::resume(const RestartCandidates& candida
         if (diffs.size() > 12) list += fmt::format("\n  ... and {} more", diffs.size() - 12);
         throw UsageError(fmt::format(
             "{} was written by a different deck; a restart may change only run.end_time, "
-            "run.max_steps, run.title and the [output], [checkpoint] and [decomposition] "
-            "tables:{}",
+            "run.max_steps, run.title and the [output], [checkpoint], [decomposition], "
+            "[fragments] and [penetration] tables:{}",
             path, list));
       }
       const bool sameLayout =
@@ -189,6 +197,8 @@ io::CheckpointState Simulation<Dim>::saveState(double dtNext, double wall) const
   st.integers["decomposition_owners"] = d.owners;
   st.texts["decomposition_curve"] = deck_.decomposition.curve;
   st.texts["decomposition_partitioner"] = deck_.decomposition.partitioner;
+  st.integers["bodies_waiting"] = std::vector<std::int64_t>(waiting_.begin(), waiting_.end());
+  if (penetration_) penetration_->save(st);
   method_->save(st);
   return st;
 }
@@ -234,6 +244,16 @@ void Simulation<Dim>::restoreState(const io::CheckpointHeader& h, bool sameLayou
   if (probes.size() != probes_->size())
     throw io::CheckpointError(h.path + ": state/probe_particles does not match the deck's probes");
   probes_->restoreTracked(probes);
+  if (const auto w = st.integers.find("bodies_waiting"); w != st.integers.end()) {
+    if (w->second.size() != deck_.bodies.size())
+      throw io::CheckpointError(h.path + ": state/bodies_waiting does not match the deck's bodies");
+    waiting_.assign(w->second.begin(), w->second.end());
+  } else {
+    // Written before bodies could wait: every body was there from t = 0.
+    waiting_.assign(deck_.bodies.size(), 0);
+  }
+  if (penetration_) penetration_->restore(st);
+  lastPenetrationTime_ = time_; // its row was written before the checkpoint
   method_->restore(st);
   checkpointRanks_ = static_cast<int>(h.rankCounts.size());
   totalParticles_ = h.particles;
@@ -337,6 +357,7 @@ template <int Dim> void Simulation<Dim>::run(const RunOptions& options, const fs
   }
   history_.flush();
   probesCsv_.flush();
+  penetrationCsv_.flush();
   finish(log, options, wall0, stopSignal);
   log_ = nullptr;
 }
@@ -349,6 +370,7 @@ double Simulation<Dim>::stepOnce(double dt, Clock::time_point wall0, bool replay
   method_->advance(dt, step_, time_);
   time_ += dt;
   ++step_;
+  insertDueBodies();
   if (!replay) record(dt, step_, wall0);
   if (snapshotDue()) writeSnapshot(!replay);
   return nextTimeStep();
@@ -364,11 +386,51 @@ template <int Dim> double Simulation<Dim>::nextTimeStep() {
 template <int Dim> double Simulation<Dim>::clampToTargets(double dt) const {
   double target = deck_.run.end_time;
   if (deck_.output.every > 0.0) target = std::min(target, nextSnapshotTime_);
+  for (std::size_t b = 0; b < waiting_.size(); ++b)
+    if (waiting_[b]) target = std::min(target, deck_.bodies[b].insert_time);
   const double left = target - time_;
   if (left <= 0.0) return dt;
   if (dt >= left) return left;
   if (1.5 * dt > left) return 0.5 * left;
   return dt;
+}
+
+// Bodies whose insert_time has come join the run (the step before was shortened to end on it):
+// made on rank 0 with their t = 0 ids, given their modules' initial values, sent to their
+// owners; then the rates of the whole state again, so that the next step starts from forces that
+// include them. The reference of the conserved totals grows by what they bring.
+template <int Dim> void Simulation<Dim>::insertDueBodies() {
+  std::vector<std::size_t> due;
+  for (std::size_t b = 0; b < waiting_.size(); ++b)
+    if (waiting_[b] && time_ >= deck_.bodies[b].insert_time * (1.0 - 1e-12)) due.push_back(b);
+  if (due.empty()) return;
+  const diagnostics::Totals before = diagnostics::computeTotals(store_, f_, mpi_);
+  const std::size_t first = store_.localCount();
+  std::vector<std::uint64_t> bodyParticles;
+  for (const auto& b : bodies_) bodyParticles.push_back(b.particles);
+  for (const std::size_t b : due) {
+    waiting_[b] = 0;
+    if (!mpi_.root()) continue;
+    ParticleId firstId = 0;
+    for (std::size_t o = 0; o < b; ++o) firstId += bodyParticles[o];
+    insertBody<Dim>(deck_, materials_, b, firstId, store_, f_);
+  }
+  method_->start({bodyParticles, first});
+  decomposition_->migrate(store_, step_);
+  method_->evaluate(step_);
+  totalParticles_ = mpi_.sum(static_cast<std::uint64_t>(store_.localCount()));
+  const diagnostics::Totals after = diagnostics::computeTotals(store_, f_, mpi_);
+  totals0_.mass += after.mass - before.mass;
+  for (std::size_t d = 0; d < 3; ++d) {
+    totals0_.momentum[d] += after.momentum[d] - before.momentum[d];
+    totals0_.momentumScale[d] += after.momentumScale[d] - before.momentumScale[d];
+  }
+  totals0_.kinetic += after.kinetic - before.kinetic;
+  totals0_.internal += after.internal - before.internal;
+  if (log_)
+    for (const std::size_t b : due)
+      log_->note(fmt::format("t = {:.6g} s (step {}): body '{}' joins the run, {} particles", time_,
+                             step_, bodies_[b].name, bodies_[b].particles));
 }
 
 // Writes ckpt_<step>.h5 (atomically), then points `latest` at it, then prunes old ones. The
@@ -377,6 +439,7 @@ template <int Dim> void Simulation<Dim>::checkpoint(double dtNext, Clock::time_p
   method_->stats().phases.time(methods::kCheckpoint, [&] {
     history_.flush();
     probesCsv_.flush();
+    penetrationCsv_.flush();
     const std::string name = checkpointFileName(step_);
     const fs::path ckDir = dir_ / "checkpoints";
     const double wall = std::chrono::duration<double>(Clock::now() - wall0).count();

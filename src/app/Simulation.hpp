@@ -12,6 +12,7 @@
 #include "spall/app/RunLog.hpp"
 #include "spall/core/ParticleFields.hpp"
 #include "spall/diagnostics/Conservation.hpp"
+#include "spall/diagnostics/Penetration.hpp"
 #include "spall/diagnostics/Probes.hpp"
 #include "spall/io/Checkpoint.hpp"
 #include "spall/io/CsvLog.hpp"
@@ -63,6 +64,7 @@ private:
   double stepOnce(double dt, Clock::time_point wall0, bool replay);
   double nextTimeStep();
   double clampToTargets(double dt) const;
+  void insertDueBodies();
   void checkpoint(double dtNext, Clock::time_point wall0);
   int checkpointKeep() const { return deck_.checkpoint ? deck_.checkpoint->keep : 2; }
   // RunFailure.cpp
@@ -78,6 +80,7 @@ private:
   bool snapshotDue() const;
   void writeSnapshot(bool write = true);
   void writeFragments();
+  void writePenetration();
   void advanceSnapshotClock(const std::string& base);
   void record(double dt, std::int64_t step, Clock::time_point wall0);
   void banner(RunLog& log, const std::filesystem::path& dir);
@@ -93,13 +96,16 @@ private:
   std::unique_ptr<parallel::Decomposition<Dim>> decomposition_;
   std::unique_ptr<methods::Method<Dim>> method_;
   std::unique_ptr<diagnostics::Probes<Dim>> probes_;
+  std::unique_ptr<diagnostics::PenetrationGauge<Dim>> penetration_; // with [penetration]
+  double lastPenetrationTime_ = -1.0; // a snapshot at a history row's time adds no second row
   std::vector<BodySummary> bodies_;
+  std::vector<char> waiting_; // by body: its insert_time has not come yet (checkpointed)
   std::size_t totalParticles_ = 0;
   RunLog* log_ = nullptr;
   std::vector<std::string> outputFields_;
   std::vector<std::string> deferredWarnings_;
   std::vector<std::pair<double, std::string>> series_;
-  io::CsvLog history_, probesCsv_, fragmentsCsv_;
+  io::CsvLog history_, probesCsv_, fragmentsCsv_, penetrationCsv_;
   std::unique_ptr<ParticleRecorder<Dim>> recorder_;
   std::filesystem::path dir_;
   diagnostics::Totals totals0_, last_;

@@ -64,8 +64,10 @@ std::string infoText() {
        "           wendland_c2, wendland_c4; EOS: ideal_gas, linear, mie_gruneisen, tillotson,\n"
        "           p_alpha porosity; strength: elastic, von_mises, johnson_cook, cap; damage:\n"
        "           grady_kipp, johnson_cook; boundaries: rigid_wall, periodic; MPI decomposition,\n"
-       "           checkpoint/restart; output: HDF5 + XDMF, CSV; spall element, spall history\n"
-       "not yet    mpm, pressure boundaries, bodies inserted in time, penetration output\n";
+       "           checkpoint/restart; output: HDF5 + XDMF, CSV, penetration.csv; spall element,\n"
+       "           spall history\n"
+       "           bodies that join at insert_time, [[jet]] files\n"
+       "not yet    mpm, pressure boundaries\n";
   return s;
 }
 

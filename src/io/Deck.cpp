@@ -81,12 +81,15 @@ private:
   void readOutput(const TableReader& r, OutputConfig& o, double endTime) const;
   void readCheckpoint(const TableReader& r, CheckpointConfig& c) const;
   void readFragments(const TableReader& r, FragmentsConfig& c, const SolverConfig& s) const;
+  void readPenetration(const TableReader& r, PenetrationConfig& c,
+                       const std::vector<BodyConfig>& bodies) const;
   void readProbe(const TableReader& r, ProbeConfig& p) const;
 
   const toml::table& root_;
   const std::string& path_;
   std::size_t dimension_ = 0;
-  bool rz_ = false; // run.geometry = "rz"
+  std::vector<std::string> jetNames_; // [[jet]] names: a penetrator may name a whole jet
+  bool rz_ = false;                   // run.geometry = "rz"
 };
 
 void DeckReader::read(Deck& deck) {
@@ -125,6 +128,16 @@ void DeckReader::read(Deck& deck) {
         readBody(r, deck.materials, b);
       }) == 0)
     throw DeckError(top.whereValue("body"), "the deck needs at least one [[body]]");
+  // [[jet]]: its segments join the bodies (after the deck's own, so their ids come last).
+  std::map<std::string, SourceLocation> jetNames;
+  const auto jets = top.tables("jet");
+  for (std::size_t i = 0; i < jets.size(); ++i) {
+    const TableReader r = reader(*jets[i], Context::entry("jet", *jets[i], i));
+    const std::string name =
+        r.has("name") ? readName(r, "jet", jetNames) : "jet" + std::to_string(i + 1);
+    jetNames_.push_back(name);
+    dd::readJet(r, dimension_, rz_, deck.materials, deck.bodies, name);
+  }
 
   // Monaghan's artificial stress is on by default for decks with solids: without it, solids in
   // tension pair up and tear (the rubber rings of decks/README.md, "Safe defaults"). So is the
@@ -149,6 +162,9 @@ void DeckReader::read(Deck& deck) {
     readCheckpoint(reader(*t, Context{}.child("checkpoint")), deck.checkpoint.emplace());
   if (const auto* t = top.subtable("fragments"))
     readFragments(reader(*t, Context{}.child("fragments")), deck.fragments.emplace(), deck.solver);
+  if (const auto* t = top.subtable("penetration"))
+    readPenetration(reader(*t, Context{}.child("penetration")), deck.penetration.emplace(),
+                    deck.bodies);
 
   names.clear();
   entries("probe", deck.probes, [&](const TableReader& r, ProbeConfig& p) {
@@ -221,15 +237,7 @@ void DeckReader::readBody(const TableReader& r, const std::vector<MaterialConfig
   r.allowOnly(*dd::schemaKeys("body"));
   b.where = r.where();
   b.material = r.required(r.string("material"), "material");
-  Names known;
-  for (std::size_t i = 0; i < materials.size(); ++i) {
-    known.push_back(materials[i].name);
-    if (materials[i].name == b.material) b.material_index = static_cast<int>(i);
-  }
-  if (b.material_index < 0)
-    r.fail("material", r.quoted("material") + " names no [[material]]: '" + b.material + "'" +
-                           dd::didYouMean(b.material, known) + " (materials: " + dd::joined(known) +
-                           ")");
+  b.material_index = dd::materialIndex(r, b.material, materials);
 
   const toml::table* shape = r.subtable("shape");
   if (!shape) r.missing("shape");
@@ -452,6 +460,47 @@ void DeckReader::readFragments(const TableReader& r, FragmentsConfig& c,
           c.damage_threshold);
 }
 
+void DeckReader::readPenetration(const TableReader& r, PenetrationConfig& c,
+                                 const std::vector<BodyConfig>& bodies) const {
+  r.allowOnly(*dd::schemaKeys("penetration"));
+  c.where = r.where();
+  Names bodyNames;
+  for (const auto& b : bodies) bodyNames.push_back(b.name);
+  const auto knownBody = [&](std::string_view key, const std::string& name) {
+    if (!dd::contains(bodyNames, name))
+      r.fail(key, r.quoted(key) + " names no [[body]]: '" + name + "'" +
+                      dd::didYouMean(name, bodyNames) + " (bodies: " + dd::joined(bodyNames) + ")");
+  };
+  const auto listed = r.required(r.strings("penetrator"), "penetrator");
+  if (listed.empty())
+    r.fail("penetrator", r.quoted("penetrator") + " must name at least one [[body]]");
+  // A [[jet]]'s name stands for all its segments.
+  for (const auto& name : listed) {
+    if (std::find(jetNames_.begin(), jetNames_.end(), name) != jetNames_.end()) {
+      for (const auto& b : bodies)
+        if (b.name.rfind(name + "_segment", 0) == 0) c.penetrator.push_back(b.name);
+      continue;
+    }
+    knownBody("penetrator", name);
+    c.penetrator.push_back(name);
+  }
+  c.target = r.required(r.string("target"), "target");
+  knownBody("target", c.target);
+  if (std::find(c.penetrator.begin(), c.penetrator.end(), c.target) != c.penetrator.end())
+    r.fail("target", "body '" + c.target + "' is both the target and a penetrator");
+  c.surface = r.required(r.vector("surface", dimension_), "surface");
+  c.direction = r.required(r.vector("direction", dimension_), "direction");
+  double norm = 0.0;
+  for (double d : c.direction) norm += d * d;
+  norm = std::sqrt(norm);
+  if (!(norm > 0.0)) r.fail("direction", r.quoted("direction") + " must not be zero");
+  for (double& d : c.direction) d /= norm;
+  // An rz run is symmetric about the axis: penetration runs along it.
+  if (rz_ && c.direction[0] != 0.0)
+    r.fail("direction", "in an rz run (x = r, y = z) penetration runs along the axis: " +
+                            r.quoted("direction") + " must be [0, 1] or [0, -1]");
+}
+
 void DeckReader::readCheckpoint(const TableReader& r, CheckpointConfig& c) const {
   r.allowOnly(*dd::schemaKeys("checkpoint"));
   c.where = r.where();
@@ -503,6 +552,7 @@ Deck loadDeck(const std::string& path, const std::vector<std::string>& overrides
                     std::string(e.description()));
   }
   dd::applyOverrides(root, overrides, path);
+  dd::inlineJetFiles(root, path);
 
   Deck deck;
   deck.path = path;

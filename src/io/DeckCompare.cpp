@@ -13,7 +13,7 @@ namespace {
 bool mayChangeOnRestart(const std::string& key) {
   for (const char* k : {"run.end_time", "run.max_steps", "run.title"})
     if (key == k) return true;
-  for (const char* t : {"output", "checkpoint", "decomposition", "fragments"}) {
+  for (const char* t : {"output", "checkpoint", "decomposition", "fragments", "penetration"}) {
     const std::string table(t);
     if (key == table || key.rfind(table + ".", 0) == 0) return true;
   }

@@ -70,7 +70,7 @@ const std::map<std::string, Names, std::less<>>& schema() {
   static const std::map<std::string, Names, std::less<>> s{
       {"",
        {"run", "solver", "decomposition", "material", "body", "energy_source", "boundary", "output",
-        "checkpoint", "probe", "fragments"}},
+        "checkpoint", "probe", "fragments", "penetration", "jet"}},
       {"run", {"title", "dimension", "geometry", "end_time", "max_steps", "resolution", "seed"}},
       {"solver",
        {"method", "kernel", "nodes_per_h", "cfl", "allow_unstable_cfl", "density",
@@ -100,6 +100,8 @@ const std::map<std::string, Names, std::less<>>& schema() {
         "progress_percent", "failure_history", "dt_warning", "record_particles"}},
       {"checkpoint", {"every_steps", "every_wall_seconds", "keep"}},
       {"fragments", {"link_length", "damage_threshold"}},
+      {"penetration", {"penetrator", "target", "surface", "direction"}},
+      {"jet", {"name", "file", "segments", "material", "axis", "entry", "spacing"}},
       {"probe", {"name", "position", "track", "fields"}},
   };
   return s;
@@ -212,11 +214,11 @@ const Names* schemaKeys(std::string_view schemaPath) {
 }
 
 bool isArrayOfTables(std::string_view schemaPath) {
-  return contains({"material", "body", "energy_source", "boundary", "probe"}, schemaPath);
+  return contains({"material", "body", "energy_source", "boundary", "probe", "jet"}, schemaPath);
 }
 
 bool isNamedArray(std::string_view schemaPath) {
-  return contains({"material", "body", "probe"}, schemaPath);
+  return contains({"material", "body", "probe", "jet"}, schemaPath);
 }
 
 const Names& typeNames(std::string_view schemaPath) {
@@ -476,6 +478,17 @@ void allowTypedKeys(const TableReader& r, std::string_view path, const std::stri
   keys.insert(keys.end(), params.begin(), params.end());
   r.allowOnly(keys, noun + " '" + type + "' takes: " +
                         (params.empty() ? std::string("nothing else") : joined(params)));
+}
+
+int materialIndex(const TableReader& r, const std::string& name,
+                  const std::vector<MaterialConfig>& materials) {
+  Names known;
+  for (std::size_t i = 0; i < materials.size(); ++i) {
+    if (materials[i].name == name) return static_cast<int>(i);
+    known.push_back(materials[i].name);
+  }
+  r.fail("material", r.quoted("material") + " names no [[material]]: '" + name + "'" +
+                         didYouMean(name, known) + " (materials: " + joined(known) + ")");
 }
 
 } // namespace spall::io::deck_detail

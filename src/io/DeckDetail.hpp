@@ -35,7 +35,8 @@ std::string didYouMean(std::string_view word, const Names& candidates);
 // nullptr for a path that is not a table. Typed tables (eos, shape, boundary) hold the union over
 // their types; typedKeys() narrows that to one type.
 const Names* schemaKeys(std::string_view schemaPath);
-bool isArrayOfTables(std::string_view schemaPath); // material, body, energy_source, boundary, probe
+bool isArrayOfTables(
+    std::string_view schemaPath); // material, body, energy_source, boundary, probe, jet
 bool isNamedArray(
     std::string_view schemaPath); // entries addressed by `name`: material, body, probe
 // The type names of a typed table ("material.eos", "body.shape", "boundary") and the parameter
@@ -113,10 +114,22 @@ private:
   const std::string& deckPath_;
 };
 
+// The index of the [[material]] named by the table's 'material' key (else a DeckError there).
+int materialIndex(const TableReader& r, const std::string& name,
+                  const std::vector<MaterialConfig>& materials);
+
 // The [solver] table (DeckSolver.cpp).
 void readSolver(const TableReader& r, SolverConfig& s);
 // One [[material]] table (DeckMaterial.cpp).
 void readMaterial(const TableReader& r, MaterialConfig& m);
+
+// [[jet]] (DeckJet.cpp): a jet's `file` read into its table as `segments` (rows [segment, radius,
+// length, velocity, insert_time]) before the deck is resolved, so that deck.toml and checkpoints
+// carry the segments themselves; then each segment made a body named NAME_segmentK.
+void inlineJetFiles(toml::table& root, const std::string& deckPath);
+void readJet(const TableReader& r, std::size_t dimension, bool rz,
+             const std::vector<MaterialConfig>& materials, std::vector<BodyConfig>& bodies,
+             const std::string& name);
 
 // A typed table ({type = ..., ...}) takes "type" and the keys of its type (schema above).
 void allowTypedKeys(const TableReader& r, std::string_view path, const std::string& type,

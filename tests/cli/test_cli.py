@@ -49,15 +49,16 @@ def check(name, cond, detail=""):
         failures.append(f"{name}: {detail}")
 
 
-def deck_error(name, text, line, column, words, tmp, extra_args=()):
-    """The deck `text` must fail `check` and `run` with exit 2 at line:column, naming `words`."""
+def deck_error(name, text, line, column, words, tmp, extra_args=(), at=None):
+    """The deck `text` must fail `check` and `run` with exit 2 at line:column (of the deck, or of
+    the file `at`), naming `words`."""
     path = os.path.join(tmp, name + ".toml")
     out = os.path.join(tmp, "out_" + name)
     with open(path, "w") as f:
         f.write(text.replace("@OUT@", out))
     for cmd in (["check", path], ["run", path]):
         r = run(*cmd, *extra_args)
-        where = f"{path}:{line}:{column}: error:"
+        where = f"{at or path}:{line}:{column}: error:"
         check(f"{name} [{cmd[0]}] exit code", r.returncode == 2, f"got {r.returncode}; stderr: {r.stderr.strip()}")
         check(f"{name} [{cmd[0]}] position", where in r.stderr, f"expected '{where}' in: {r.stderr.strip()}")
         for w in words:
@@ -118,6 +119,48 @@ def main():
         t = replace_line(rz, 'type = "box", min = [0.0, 0.0], max = [0.001, 0.002]',
                          'type = "sphere", center = [0.001, 0.0], radius = 0.002')
         deck_error("rz_straddles_axis", t, line_of(t, "shape =")[0], 37, ["centred on the axis"], tmp)
+        # [penetration]: bodies that exist, a target that is not a penetrator, a direction (along
+        # the axis in rz).
+        pen = '[penetration]\npenetrator = ["{p}"]\ntarget = "{t}"\nsurface = {s}\ndirection = {d}\n'
+        t = ok + pen.format(p="rodd", t="striker", s="[0.0]", d="[1.0]")
+        deck_error("penetration_unknown_body", t, line_of(t, "penetrator =")[0], 14,
+                   ["names no [[body]]: 'rodd'"], tmp)
+        t = ok + pen.format(p="striker", t="striker", s="[0.0]", d="[1.0]")
+        deck_error("penetration_target_is_penetrator", t, line_of(t, "target =")[0], 10,
+                   ["both the target and a penetrator"], tmp)
+        t = ok + pen.format(p="striker", t="striker", s="[0.0]", d="[0.0]").replace(
+            'target = "striker"', 'target = "striker2"')
+        t = t.replace("[output]", '[[body]]\nname = "striker2"\nmaterial = "copper"\n'
+                      'shape = { type = "box", min = [0.0], max = [0.001] }\nspacing = 1.0e-4\n'
+                      '[output]')
+        deck_error("penetration_zero_direction", t, line_of(t, "direction =")[0], 13,
+                   ["must not be zero"], tmp)
+        t = rz + pen.format(p="striker", t="striker", s="[0.0, 0.0]", d="[1.0, -1.0]").replace(
+            'target = "striker"', 'target = "striker2"')
+        t = t.replace("[output]", '[[body]]\nname = "striker2"\nmaterial = "copper"\n'
+                      'shape = { type = "box", min = [0.0, -0.002], max = [0.001, 0.0] }\n'
+                      'spacing = 1.0e-4\n[output]')
+        deck_error("penetration_rz_off_axis", t, line_of(t, "direction =")[0], 13,
+                   ["runs along the axis"], tmp)
+        # [[jet]] files: errors at the file's line and column; an rz jet flies along the axis.
+        jet = ('[[jet]]\nfile = "{f}"\nmaterial = "copper"\naxis = {a}\nentry = [0.0, 0.0]\n'
+               'spacing = 1.0e-4\n')
+        for case, csv, line, col, words in (
+                ("jet_missing_column", "segment,radius,length,velocity\n1,1e-3,1e-3,100.0\n", 1, 1,
+                 ["no column 'insert_time'"]),
+                ("jet_bad_number", "segment,radius,length,velocity,insert_time\n1,1e-3,1e-3,100.0,0\n"
+                 "2,1e-3,fast,100.0,1e-6\n", 3, 8, ["'length' must be a number, got 'fast'"])):
+            f = os.path.join(tmp, case + ".csv")
+            with open(f, "w") as out:
+                out.write(csv)
+            t = rz + jet.format(f=f, a="[0.0, -1.0]")
+            deck_error(case, t, line, col, words, tmp, at=f)
+        f = os.path.join(tmp, "jet_ok.csv")
+        with open(f, "w") as out:
+            out.write("segment,radius,length,velocity,insert_time\n1,1e-3,1e-3,100.0,0\n")
+        t = rz + jet.format(f=f, a="[1.0, 0.0]")
+        deck_error("jet_rz_off_axis", t, line_of(t, "axis = [1.0")[0], 8, ["flies along the axis"],
+                   tmp)
         t = replace_line(ok, "end_time = 1.0e-6", "end_time = 1.0e-6\n[solver]\ncfl = 1.5")
         ln = t.splitlines().index("cfl = 1.5") + 1
         deck_error("cfl_range", t, ln, 7, ["cfl"], tmp)

@@ -18,11 +18,20 @@ struct BodySummary {
   double spacing = 0.0; // after run.resolution
 };
 
-// Fills the store's owned particles (all of them: the caller distributes).
+// Fills the store's owned particles (all of them: the caller distributes) with the bodies present
+// at t = 0; the summary counts every body, those that join later (insert_time > 0) too, and ids
+// number every body in deck order.
 template <int Dim>
 std::vector<BodySummary> generateBodies(const Deck& deck,
                                         const std::vector<materials::Material>& materials,
                                         ParticleStore& store, const ParticleFields<Dim>& f);
+
+// Appends body b's particles to the owned rows, ids from firstId (the t = 0 numbering), as
+// generateBodies made them; every other field zero. Returns the count.
+template <int Dim>
+std::size_t insertBody(const Deck& deck, const std::vector<materials::Material>& materials,
+                       std::size_t b, ParticleId firstId, ParticleStore& store,
+                       const ParticleFields<Dim>& f);
 
 // Deposits each [[energy_source]] at t = 0, kernel-weighted over the particles within its radius
 // (or into the nearest particle when the radius is zero).

@@ -200,6 +200,16 @@ public:
     local_ += count;
     return first;
   }
+  // Sets every field of owned rows [first, first + count) to zero bits: particles that join a
+  // running store start from nothing but what their maker sets (a grown column's rows may hold an
+  // earlier ghost's values, and fixed-size Eigen types are not value-initialised).
+  void zeroRows(std::size_t first, std::size_t count) {
+    std::vector<std::byte> zeros;
+    for (auto& c : columns_) {
+      zeros.assign(count * c->bytesPerParticle(), std::byte{0});
+      c->unpack(zeros.data(), first, count);
+    }
+  }
   // Appends `count` ghost rows (values to be unpacked by the caller); returns the first.
   std::size_t appendGhosts(std::size_t count) {
     const std::size_t first = size_;

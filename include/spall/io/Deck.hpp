@@ -188,6 +188,15 @@ struct FragmentsConfig {
   SourceLocation where;
 };
 
+// [penetration]: penetration.csv (diagnostics/Penetration.hpp).
+struct PenetrationConfig {
+  std::vector<std::string> penetrator; // body names
+  std::string target;                  // body name
+  std::vector<double> surface;         // a point on the target's original surface
+  std::vector<double> direction;       // of penetration, unit length (normalised on reading)
+  SourceLocation where;
+};
+
 struct ProbeConfig {
   std::string name;
   std::vector<double> position;
@@ -210,6 +219,7 @@ struct Deck {
   std::optional<CheckpointConfig> checkpoint;
   std::vector<ProbeConfig> probes;
   std::optional<FragmentsConfig> fragments;
+  std::optional<PenetrationConfig> penetration;
 };
 
 // Reads, applies `--set KEY=VALUE` overrides to, and validates a deck. Throws DeckError with the

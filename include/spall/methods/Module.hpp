@@ -12,9 +12,11 @@
 
 namespace spall::methods {
 
-// What a new run knows at t = 0 beyond the particles a rank owns.
+// What a new run knows at t = 0 beyond the particles a rank owns, or, when a body joins the run
+// later (insert_time), which owned rows are new.
 struct RunStart {
   std::span<const std::uint64_t> bodyParticles; // every body's particle count, on all ranks
+  std::size_t first = 0;                        // the first owned row to initialise
 };
 
 template <int Dim> class Module {
@@ -22,7 +24,8 @@ public:
   virtual ~Module() = default;
   // Registers the module's fields in the store and records their handles in f.
   virtual void registerFields(ParticleStore& s, ParticleFields<Dim>& f) = 0;
-  // A new run at t = 0, after the bodies are made: initial values of the owned particles.
+  // A new run at t = 0, after the bodies are made, or a body joining it: initial values of the
+  // owned particles from row start.first on.
   virtual void initialise(ParticleStore& /*s*/, const ParticleFields<Dim>& /*f*/,
                           const RunStart& /*start*/) const {}
   // After each force evaluation, on the owned particles' rates.

@@ -160,3 +160,53 @@ TEST(BodyGenerator, CantileverModeIsClampedFreeBeamMode) {
   EXPECT_LT(std::abs(f2), 2e-2 * 0.57 * k * k); // O(d) away from the end: k^3 d ~ 2e-3 k^2
   EXPECT_LT(std::abs(f3), 2e-2 * 0.57 * k * k * k);
 }
+
+// A body that joins later (insert_time) is left out of the t = 0 particles but counted, and
+// insertBody then makes exactly the particles generateBodies would have made at t = 0 (ids in
+// deck order, the jitter of those ids), whatever stood in the grown rows before.
+TEST(BodyGenerator, InsertedBodyIsTheBodyOfTimeZero) {
+  const std::string bodies = R"([[body]]
+name = "late"
+material = "m"
+shape = { type = "box", min = [0.0, 2.0], max = [1.0, 2.5] }
+spacing = 0.1
+velocity = [0.0, -3.0]
+jitter = 0.1
+@INSERT@
+[[body]]
+name = "early"
+material = "m"
+shape = { type = "box", min = [0.0, 0.0], max = [1.0, 1.0] }
+spacing = 0.1
+)";
+  const auto with = [&](const std::string& insert) {
+    std::string b = bodies;
+    b.replace(b.find("@INSERT@"), 8, insert);
+    return b;
+  };
+  Generated<2> all(deckFrom("insert_all", 2, with("")));
+  const Deck waitingDeck = deckFrom("insert_wait", 2, with("insert_time = 1.0e-3"));
+  Generated<2> g(waitingDeck);
+  ASSERT_EQ(all.store.localCount(), 150u);
+  ASSERT_EQ(g.store.localCount(), 100u); // only "early" at t = 0
+  EXPECT_EQ(g.bodies[0].particles, 50u); // "late" counted all the same
+  EXPECT_NEAR(g.bodies[0].mass, all.bodies[0].mass, 1e-15);
+  EXPECT_EQ(g.store[g.f.id][0], 50u); // "early" keeps the ids after "late"'s
+  // Rows left by earlier particles must not leak into the new ones.
+  g.store.appendGhosts(80);
+  for (std::size_t i = 100; i < 180; ++i) g.store[g.f.e][i] = 123.0;
+  const std::size_t n = app::insertBody<2>(waitingDeck, {{materials::IdealGas{1.4}, std::nullopt}},
+                                           0, 0, g.store, g.f);
+  ASSERT_EQ(n, 50u);
+  ASSERT_EQ(g.store.localCount(), 150u);
+  for (std::size_t k = 0; k < 50; ++k) {
+    const std::size_t i = 100 + k; // appended after the owned rows; generated first in `all`
+    EXPECT_EQ(g.store[g.f.id][i], all.store[all.f.id][k]);
+    EXPECT_EQ(g.store[g.f.x][i], all.store[all.f.x][k]);
+    EXPECT_EQ(g.store[g.f.v][i], all.store[all.f.v][k]);
+    EXPECT_EQ(g.store[g.f.m][i], all.store[all.f.m][k]);
+    EXPECT_EQ(g.store[g.f.h][i], all.store[all.f.h][k]);
+    EXPECT_EQ(g.store[g.f.e][i], 0.0);
+    EXPECT_EQ(g.store[g.f.body][i], 0);
+  }
+}

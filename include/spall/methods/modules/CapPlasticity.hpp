@@ -10,8 +10,8 @@ template <int Dim> class CapPlasticity final : public Module<Dim> {
 public:
   void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override { f.registerCap(s); }
   void initialise(ParticleStore& s, const ParticleFields<Dim>& f,
-                  const RunStart& /*start*/) const override {
-    for (std::size_t i = 0; i < s.localCount(); ++i) {
+                  const RunStart& start) const override {
+    for (std::size_t i = start.first; i < s.localCount(); ++i) {
       s[f.volumetricStrain][i] = 0.0;
       s[f.capPosition][i] = 0.0;
       s[f.porosity][i] = 0.0;

@@ -28,7 +28,7 @@ public:
   void initialise(ParticleStore& s, const ParticleFields<Dim>& f,
                   const RunStart& start) const override {
     const auto mat = s[f.material];
-    for (std::size_t i = 0; i < s.localCount(); ++i) {
+    for (std::size_t i = start.first; i < s.localCount(); ++i) {
       s[f.damage][i] = 0.0;
       s[f.Sintact][i].setZero();
       if (anyTensor_) s[f.damageTensor][i].setZero(), s[f.strainTensor][i].setZero();
@@ -38,7 +38,7 @@ public:
     const auto body = s[f.body];
     const auto m = s[f.m];
     const auto rho = s[f.rho];
-    for (std::size_t i = 0; i < s.localCount(); ++i) {
+    for (std::size_t i = start.first; i < s.localCount(); ++i) {
       const auto& g = flaws_[static_cast<std::size_t>(mat[i])];
       s[f.flawsActive][i] = 0;
       if (!g) {

@@ -18,8 +18,8 @@ public:
     f.registerDeformationGradient(s, transient_);
   }
   void initialise(ParticleStore& s, const ParticleFields<Dim>& f,
-                  const RunStart& /*start*/) const override {
-    for (std::size_t i = 0; i < s.localCount(); ++i) {
+                  const RunStart& start) const override {
+    for (std::size_t i = start.first; i < s.localCount(); ++i) {
       s[f.Fdef][i].setIdentity();
       s[f.rhoUpdate][i] = s[f.rho][i];
       s[f.eUpdate][i] = s[f.e][i];

@@ -17,8 +17,8 @@ public:
     f.registerPAlpha(s, elastic_);
   }
   void initialise(ParticleStore& s, const ParticleFields<Dim>& f,
-                  const RunStart& /*start*/) const override {
-    for (std::size_t i = 0; i < s.localCount(); ++i) {
+                  const RunStart& start) const override {
+    for (std::size_t i = start.first; i < s.localCount(); ++i) {
       const double a = alpha0_[static_cast<std::size_t>(s[f.material][i])];
       s[f.alpha][i] = a;
       s[f.porosity][i] = 1.0 - 1.0 / a;

@@ -11,8 +11,8 @@ public:
     f.registerSmoothingTensor(s);
   }
   void initialise(ParticleStore& s, const ParticleFields<Dim>& f,
-                  const RunStart& /*start*/) const override {
-    for (std::size_t i = 0; i < s.localCount(); ++i)
+                  const RunStart& start) const override {
+    for (std::size_t i = start.first; i < s.localCount(); ++i)
       s[f.H][i] = Tensor<Dim>::Identity() / s[f.h][i];
   }
 };

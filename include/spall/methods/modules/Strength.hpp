@@ -17,10 +17,10 @@ public:
     f.registerStrength(s, gradientInHalo_);
   }
   void initialise(ParticleStore& s, const ParticleFields<Dim>& f,
-                  const RunStart& /*start*/) const override {
+                  const RunStart& start) const override {
     const auto mat = s[f.material];
     const auto T = s[f.temperature];
-    for (std::size_t i = 0; i < s.localCount(); ++i) {
+    for (std::size_t i = start.first; i < s.localCount(); ++i) {
       s[f.S][i].setZero();
       s[f.L][i].setZero();
       s[f.plasticStrain][i] = 0.0;
