@@ -2,6 +2,7 @@
 
 #include "spall/methods/modules/BalsaraSwitch.hpp"
 #include "spall/methods/modules/CapPlasticity.hpp"
+#include "spall/methods/modules/ConfiningPressure.hpp"
 #include "spall/methods/modules/Damage.hpp"
 #include "spall/methods/modules/DeformationGradient.hpp"
 #include "spall/methods/modules/FixedBodies.hpp"
@@ -11,6 +12,7 @@
 #include "spall/methods/modules/PAlpha.hpp"
 #include "spall/methods/modules/SmoothingTensor.hpp"
 #include "spall/methods/modules/Strength.hpp"
+#include "spall/methods/modules/VelocityDamping.hpp"
 
 #include <algorithm>
 #include <fmt/format.h>
@@ -206,6 +208,13 @@ std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck
   if (solver.method == "asph") list.push_back(std::make_unique<methods::SmoothingTensor<Dim>>());
   if (solver.contact != Contact::Welded)
     list.push_back(std::make_unique<methods::FrictionlessContact<Dim>>());
+  std::vector<typename methods::ConfiningPressure<Dim>::Load> loads;
+  for (const auto& b : deck.boundaries)
+    if (b.type == "pressure") loads.push_back({b.bodyIndex, b.pressure});
+  if (!loads.empty()) list.push_back(std::make_unique<methods::ConfiningPressure<Dim>>(loads));
+  if (deck.damping)
+    list.push_back(std::make_unique<methods::VelocityDamping<Dim>>(deck.damping->coefficient,
+                                                                   deck.damping->until, fixed));
   if (!fixed.empty()) list.push_back(std::make_unique<methods::FixedBodies<Dim>>(fixed));
   // The deformation gradient: for recorded particles, or when snapshots ask for it.
   const auto& out = deck.output;

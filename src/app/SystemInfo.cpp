@@ -63,11 +63,12 @@ std::string infoText() {
   s += "features   dimensions 1/2/3, axisymmetric rz; solvers: sph, asph; kernels: cubic_spline,\n"
        "           wendland_c2, wendland_c4; EOS: ideal_gas, linear, mie_gruneisen, tillotson,\n"
        "           p_alpha porosity; strength: elastic, von_mises, johnson_cook, cap; damage:\n"
-       "           grady_kipp, johnson_cook; boundaries: rigid_wall, periodic; MPI decomposition,\n"
+       "           grady_kipp, johnson_cook; boundaries: rigid_wall, periodic, pressure (with\n"
+       "           [damping]); MPI decomposition,\n"
        "           checkpoint/restart; output: HDF5 + XDMF, CSV, penetration.csv; spall element,\n"
        "           spall history\n"
        "           bodies that join at insert_time, [[jet]] files\n"
-       "not yet    mpm, pressure boundaries\n";
+       "not yet    mpm\n";
   return s;
 }
 

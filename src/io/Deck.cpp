@@ -77,7 +77,12 @@ private:
   void readShape(const TableReader& r, ShapeConfig& s) const;
   void checkAxisymmetric(const TableReader& r, double centerR, double radius) const;
   void readEnergySource(const TableReader& r, EnergySourceConfig& e) const;
-  void readBoundary(const TableReader& r, BoundaryConfig& b) const;
+  void readBoundary(const TableReader& r, BoundaryConfig& b,
+                    const std::vector<BodyConfig>& bodies) const;
+  void readDamping(const TableReader& r, DampingConfig& d) const;
+  // The index of the body `name` names (key `key` of r), or a DeckError with a did-you-mean.
+  std::int32_t bodyIndex(const TableReader& r, std::string_view key, const std::string& name,
+                         const std::vector<BodyConfig>& bodies) const;
   void readOutput(const TableReader& r, OutputConfig& o, double endTime) const;
   void readCheckpoint(const TableReader& r, CheckpointConfig& c) const;
   void readFragments(const TableReader& r, FragmentsConfig& c, const SolverConfig& s) const;
@@ -153,7 +158,16 @@ void DeckReader::read(Deck& deck) {
   entries("energy_source", deck.energy_sources,
           [&](const TableReader& r, EnergySourceConfig& e) { readEnergySource(r, e); });
   entries("boundary", deck.boundaries,
-          [&](const TableReader& r, BoundaryConfig& b) { readBoundary(r, b); });
+          [&](const TableReader& r, BoundaryConfig& b) { readBoundary(r, b, deck.bodies); });
+  for (std::size_t i = 0; i < deck.boundaries.size(); ++i)
+    for (std::size_t k = 0; k < i; ++k)
+      if (deck.boundaries[i].type == "pressure" && deck.boundaries[k].type == "pressure" &&
+          deck.boundaries[i].bodyIndex == deck.boundaries[k].bodyIndex)
+        throw DeckError(deck.boundaries[i].where,
+                        "body '" + deck.boundaries[i].body +
+                            "' has a pressure boundary already (one table per body)");
+  if (const auto* t = top.subtable("damping"))
+    readDamping(reader(*t, Context{}.child("damping")), deck.damping.emplace());
 
   const toml::table* output = top.subtable("output");
   if (!output) throw DeckError(start, "missing required table [output]");
@@ -374,7 +388,8 @@ void DeckReader::readEnergySource(const TableReader& r, EnergySourceConfig& e) c
   r.check(e.energy >= 0.0, "energy", ">= 0", e.energy);
 }
 
-void DeckReader::readBoundary(const TableReader& r, BoundaryConfig& b) const {
+void DeckReader::readBoundary(const TableReader& r, BoundaryConfig& b,
+                              const std::vector<BodyConfig>& bodies) const {
   b.where = r.where();
   b.type = r.choice("type", dd::typeNames("boundary"), std::nullopt);
   dd::allowTypedKeys(r, "boundary", b.type, "boundary");
@@ -392,6 +407,30 @@ void DeckReader::readBoundary(const TableReader& r, BoundaryConfig& b) const {
     if (rz_ && b.normal[0] != 0.0 && b.point[0] <= 0.0)
       r.fail("point", r.quoted("point") + " of a cylindrical wall in geometry 'rz' needs r > 0 "
                                           "(the axis is a mirror already)");
+  } else if (b.type == "pressure") {
+    b.body = r.required(r.string("body"), "body");
+    b.bodyIndex = bodyIndex(r, "body", b.body, bodies);
+    const toml::array* rows = r.table().get_as<toml::array>("pressure");
+    if (!rows) r.missing("pressure");
+    const std::string form = r.quoted("pressure") + " is a table of [time, pressure] rows (s, Pa)";
+    if (rows->empty()) r.fail("pressure", form + ": it has none");
+    for (const toml::node& node : *rows) {
+      const toml::array* row = node.as_array();
+      if (!row || row->size() != 2) throw DeckError(r.whereNode(node), form);
+      double tp[2];
+      for (std::size_t c = 0; c < 2; ++c) {
+        const auto x = (*row)[c].value<double>();
+        if (!x || !std::isfinite(*x))
+          throw DeckError(r.whereNode((*row)[c]), form + ": this is not a finite number");
+        tp[c] = *x;
+      }
+      if (tp[0] < 0.0) throw DeckError(r.whereNode((*row)[0]), form + ": times are >= 0");
+      if (!b.pressure.empty() && !(tp[0] > b.pressure.back().first))
+        throw DeckError(r.whereNode((*row)[0]),
+                        form + ": times must increase from row to row (" + dd::formatNumber(tp[0]) +
+                            " after " + dd::formatNumber(b.pressure.back().first) + ")");
+      b.pressure.emplace_back(tp[0], tp[1]);
+    }
   } else { // periodic
     const std::int64_t axis = r.required(r.integer("axis"), "axis");
     r.check(axis >= 0 && axis < static_cast<std::int64_t>(dimension_), "axis",
@@ -460,16 +499,33 @@ void DeckReader::readFragments(const TableReader& r, FragmentsConfig& c,
           c.damage_threshold);
 }
 
+std::int32_t DeckReader::bodyIndex(const TableReader& r, std::string_view key,
+                                   const std::string& name,
+                                   const std::vector<BodyConfig>& bodies) const {
+  Names bodyNames;
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    if (bodies[b].name == name) return static_cast<std::int32_t>(b);
+    bodyNames.push_back(bodies[b].name);
+  }
+  r.fail(key, r.quoted(key) + " names no [[body]]: '" + name + "'" +
+                  dd::didYouMean(name, bodyNames) + " (bodies: " + dd::joined(bodyNames) + ")");
+}
+
+void DeckReader::readDamping(const TableReader& r, DampingConfig& d) const {
+  r.allowOnly(*dd::schemaKeys("damping"));
+  d.where = r.where();
+  d.coefficient = r.required(r.number("coefficient"), "coefficient");
+  r.check(d.coefficient > 0.0, "coefficient", "> 0 (1/s)", d.coefficient);
+  d.until = r.required(r.number("until"), "until");
+  r.check(d.until > 0.0, "until", "> 0 (s)", d.until);
+}
+
 void DeckReader::readPenetration(const TableReader& r, PenetrationConfig& c,
                                  const std::vector<BodyConfig>& bodies) const {
   r.allowOnly(*dd::schemaKeys("penetration"));
   c.where = r.where();
-  Names bodyNames;
-  for (const auto& b : bodies) bodyNames.push_back(b.name);
   const auto knownBody = [&](std::string_view key, const std::string& name) {
-    if (!dd::contains(bodyNames, name))
-      r.fail(key, r.quoted(key) + " names no [[body]]: '" + name + "'" +
-                      dd::didYouMean(name, bodyNames) + " (bodies: " + dd::joined(bodyNames) + ")");
+    bodyIndex(r, key, name, bodies);
   };
   const auto listed = r.required(r.strings("penetrator"), "penetrator");
   if (listed.empty())

@@ -46,7 +46,10 @@ const std::vector<TypedTable>& typedTables() {
         {"sphere", {"center", "radius"}},
         {"cylinder", {"base", "axis", "radius", "length"}},
         {"ring", {"center", "inner_radius", "outer_radius"}}}},
-      {"boundary", {{"rigid_wall", {"point", "normal"}}, {"periodic", {"axis", "min", "max"}}}},
+      {"boundary",
+       {{"rigid_wall", {"point", "normal"}},
+        {"periodic", {"axis", "min", "max"}},
+        {"pressure", {"body", "pressure"}}}},
   };
   return tables;
 }
@@ -70,7 +73,7 @@ const std::map<std::string, Names, std::less<>>& schema() {
   static const std::map<std::string, Names, std::less<>> s{
       {"",
        {"run", "solver", "decomposition", "material", "body", "energy_source", "boundary", "output",
-        "checkpoint", "probe", "fragments", "penetration", "jet"}},
+        "checkpoint", "probe", "fragments", "penetration", "jet", "damping"}},
       {"run", {"title", "dimension", "geometry", "end_time", "max_steps", "resolution", "seed"}},
       {"solver",
        {"method", "kernel", "nodes_per_h", "cfl", "allow_unstable_cfl", "density",
@@ -101,6 +104,7 @@ const std::map<std::string, Names, std::less<>>& schema() {
       {"checkpoint", {"every_steps", "every_wall_seconds", "keep"}},
       {"fragments", {"link_length", "damage_threshold"}},
       {"penetration", {"penetrator", "target", "surface", "direction"}},
+      {"damping", {"coefficient", "until"}},
       {"jet", {"name", "file", "segments", "material", "axis", "entry", "spacing"}},
       {"probe", {"name", "position", "track", "fields"}},
   };

@@ -2,6 +2,7 @@
 
 #include "spall/core/Error.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
@@ -54,18 +55,24 @@ template <int Dim> void SphMethod<Dim>::advance(double dt, std::int64_t step, do
     stats_.migratedTotal += m.moved;
     stats_.maxRankDistance = std::max(stats_.maxRankDistance, m.maxRankDistance);
   });
-  evaluate(step);
+  rates(step, time + dt);
   stats_.phases.time(kIntegration, [&] {
     kick(dt);
     materials_.evaluate(materialFields()); // p, cs of the corrected state (output, next dt)
     solver_->updateSmoothing();
   });
+  bookExternal(dt, externalLoad(time + dt));
   checkFinite(step + 1, time + dt);
   if (mpi_.size() > 1) stats_.phases.time(kExchange, [&] { balance(step + 1); });
 }
 
 // One force evaluation: ghosts, neighbors, density, kernel correction, rates.
-template <int Dim> void SphMethod<Dim>::evaluate(std::int64_t step) {
+template <int Dim> void SphMethod<Dim>::evaluate(std::int64_t step, double time) {
+  rates(step, time);
+  external_ = externalLoad(time);
+}
+
+template <int Dim> void SphMethod<Dim>::rates(std::int64_t step, double time) {
   stats_.phases.time(kExchange, [&] { exchangeHalo(); });
   stats_.phases.time(kBoundaries, [&] {
     double hmax = 0.0;
@@ -75,7 +82,7 @@ template <int Dim> void SphMethod<Dim>::evaluate(std::int64_t step) {
   stats_.phases.time(kNeighbors, [&] { findNeighbors(step); });
   if (solver_->usesSummationDensity()) densityPass();
   if (solver_->correctsKernel()) stats_.phases.time(kForces, [&] { kernelCorrection(); });
-  stats_.phases.time(kForces, [&] { forces(); });
+  stats_.phases.time(kForces, [&] { forces(time); });
 }
 
 // t = 0: the modules' initial values (H = I/h, unstressed solids), then p and cs.
@@ -239,9 +246,29 @@ diagnostics::FragmentCatalogue SphMethod<Dim>::findFragments(double linkLength,
   return cat;
 }
 
-template <int Dim> void SphMethod<Dim>::forces() {
+template <int Dim> void SphMethod<Dim>::forces(double time) {
+  for (const auto& m : modules_) m->beforeRates(s_, f_, time);
   solver_->computeRates(neighbors_);
-  for (const auto& m : modules_) m->afterRates(s_, f_);
+  for (const auto& m : modules_) m->afterRates(s_, f_, time);
+}
+
+template <int Dim> ExternalLoad SphMethod<Dim>::externalLoad(double time) const {
+  if (std::none_of(modules_.begin(), modules_.end(),
+                   [](const auto& m) { return m->appliesExternalForces(); }))
+    return {}; // no reduction
+  ExternalLoad load;
+  for (const auto& m : modules_) load += m->externalLoad(s_, f_, time);
+  std::array<double, 4> sums{load.power, load.force[0], load.force[1], load.force[2]};
+  mpi_.sumInRankOrder(sums);
+  return {sums[0], {sums[1], sums[2], sums[3]}};
+}
+
+// The step's share by the trapezoidal rule: second order, as the leapfrog.
+template <int Dim> void SphMethod<Dim>::bookExternal(double dt, const ExternalLoad& now) {
+  externalWork_ += 0.5 * dt * (external_.power + now.power);
+  for (std::size_t d = 0; d < 3; ++d)
+    externalImpulse_[d] += 0.5 * dt * (external_.force[d] + now.force[d]);
+  external_ = now;
 }
 
 template <int Dim> materials::MaterialFields SphMethod<Dim>::materialFields() {
@@ -457,11 +484,22 @@ template <int Dim> ParticleReport SphMethod<Dim>::particle(ParticleId id) const 
 // The key is the checkpoint format's: unchanged since rebalances were first counted.
 template <int Dim> void SphMethod<Dim>::save(io::CheckpointState& st) const {
   st.integers["rebalances"] = {stats_.rebalances};
+  st.reals["external_work"] = {externalWork_,       externalImpulse_[0], externalImpulse_[1],
+                               externalImpulse_[2], external_.power,     external_.force[0],
+                               external_.force[1],  external_.force[2]};
   for (const auto& m : modules_) m->save(st);
 }
 
 template <int Dim> void SphMethod<Dim>::restore(const io::CheckpointState& st) {
   stats_.rebalances = static_cast<int>(st.integer("rebalances"));
+  // Absent in checkpoints written before external work was booked: none was done.
+  if (st.reals.count("external_work")) {
+    const auto& w = st.realArray("external_work");
+    externalWork_ = w.at(0);
+    for (std::size_t d = 0; d < 3; ++d) externalImpulse_[d] = w.at(1 + d);
+    external_.power = w.at(4);
+    for (std::size_t d = 0; d < 3; ++d) external_.force[d] = w.at(5 + d);
+  }
   for (const auto& m : modules_) m->restore(st);
 }
 

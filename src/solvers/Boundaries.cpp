@@ -19,9 +19,9 @@ Boundaries<Dim>::Boundaries(const std::vector<BoundaryConfig>& config, const Par
       w.normal.normalize();
       w.fold = b.fold;
       walls_.push_back(w);
-    } else {
+    } else if (b.type == "periodic") {
       periodic_.push_back({b.axis, b.min, b.max});
-    }
+    } // "pressure" loads a body's surface: methods/modules/ConfiningPressure.hpp
   }
   for (std::size_t c : s.columnsWith(kReflectVector)) vectors_.push_back({c});
   for (std::size_t c : s.columnsWith(kReflectTensor)) {

@@ -260,6 +260,12 @@ private:
     const std::size_t n = s_.localCount();
     const bool frictionless = cfg_.contact != Contact::Welded;
     const auto body = frictionless ? s_[f_.contactGroup] : s_[f_.body];
+    // A confining pressure (methods/modules/ConfiningPressure.hpp): each row's surface sum G_i,
+    // the force per unit mass a unit shift of the stress of i and all its neighbors exerts on i.
+    const bool surfaces = f_.surfaceArea.valid();
+    const auto P = surfaces ? s_[f_.confiningPressure] : std::span<double>{};
+    const auto area = surfaces ? s_[f_.surfaceArea] : std::span<Vec<Dim>>{};
+    const auto mass = s_[f_.m];
     // What the pair loop needs of a neighbor j that depends on j alone, once per row and packed
     // together: the pair loop is left with one division (1/r) and one square root.
     if constexpr (Aniso) prepareAnisoRows(), psi2Eta_.resize(n), psi2x_.resize(n);
@@ -301,7 +307,8 @@ private:
       const std::int32_t bodyi = body[i];
       const RowScratch& ri = rowScratch_[i];
       const double qI = ri.q, sI = ri.s, fi = ri.balsara;
-      Vec<Dim> ai = Vec<Dim>::Zero();
+      Vec<Dim> ai = Vec<Dim>::Zero(), Gi = Vec<Dim>::Zero();
+      const double uI = product ? 1.0 : 1.0 / (rhoi * rhoi); // q of a unit pressure
       double dei = 0.0, drhoi = 0.0, sumWHi = 0.0, mui = 0.0, divi = 0.0;
       [[maybe_unused]] Tensor<Dim> psi2i, psi2xi;
       if constexpr (Aniso) psi2i.setZero(), psi2xi.setZero();
@@ -427,6 +434,13 @@ private:
           const double term = (product ? (qOwn + qOther) / (rhoi * rhoj) : qOwn + qOther) + Pij;
           ai.noalias() -= (mj * term) * gradW;
         }
+        if (surfaces) {
+          const double uJ = product ? 1.0 : 1.0 / (rhoj * rhoj);
+          if constexpr (Corrected)
+            Gi.noalias() += (mj * sij) * (uI * gI + uJ * gJ);
+          else
+            Gi.noalias() += (mj * (uI + uJ) * sij) * gradW;
+        }
         const double vgrad = vij.dot(gradW);
         if constexpr (Solid)
           if (!across) {
@@ -527,6 +541,13 @@ private:
           divi += D.volume;
           Dtt = D.strain;
         }
+      if (surfaces) {
+        // rz: the hoop force's share, -2 c k_r per unit sigma_tt (rz::hoopForce).
+        if constexpr (Dim == 2)
+          if (rz) Gi[0] -= 2.0 * (product ? 1.0 / rhoi : 1.0 / (rhoi * rhoi)) * kr;
+        ai.noalias() += P[i] * Gi;
+        area[i] = -mass[i] * Gi;
+      }
       acc[i] = ai;
       dedt[i] = dei;
       if constexpr (Solid) {

@@ -142,6 +142,27 @@ def main():
                       'spacing = 1.0e-4\n[output]')
         deck_error("penetration_rz_off_axis", t, line_of(t, "direction =")[0], 13,
                    ["runs along the axis"], tmp)
+        # [[boundary]] type = "pressure": a body that exists, a table of [time, pressure] rows
+        # with rising times, one table per body; [damping]: a positive coefficient.
+        bp = '[[boundary]]\ntype = "pressure"\nbody = "{b}"\npressure = {p}\n'
+        t = ok + bp.format(b="strikr", p="[[0.0, 1.0e6]]")
+        deck_error("pressure_unknown_body", t, line_of(t, 'body = "strikr"')[0], 8,
+                   ["names no [[body]]: 'strikr'", "did you mean 'striker'"], tmp)
+        t = ok + bp.format(b="striker", p="[[0.0, 1.0e6], [1.0e-6, 2.0e6], [0.5e-6, 3.0e6]]")
+        ln = line_of(t, "pressure = [[")[0]
+        deck_error("pressure_times_fall", t, ln, t.splitlines()[ln - 1].index("0.5e-6") + 1,
+                   ["times must increase", "5e-07 after 1e-06"], tmp)
+        t = ok + bp.format(b="striker", p="[[0.0, 1.0e6], [1.0e-6, 2.0e6, 3.0]]")
+        ln = line_of(t, "pressure = [[")[0]
+        deck_error("pressure_row_shape", t, ln, t.splitlines()[ln - 1].index("[1.0e-6") + 1,
+                   ["[time, pressure] rows"], tmp)
+        t = ok + bp.format(b="striker", p="[[0.0, 1.0e6]]") * 2
+        deck_error("pressure_twice", t, [k for k, l in enumerate(t.splitlines(), 1)
+                                         if l == "[[boundary]]"][1], 1,
+                   ["has a pressure boundary already"], tmp)
+        t = ok + "[damping]\ncoefficient = -1.0\nuntil = 1.0e-6\n"
+        deck_error("damping_coefficient", t, line_of(t, "coefficient =")[0], 15,
+                   ["coefficient", "> 0"], tmp)
         # [[jet]] files: errors at the file's line and column; an rz jet flies along the axis.
         jet = ('[[jet]]\nfile = "{f}"\nmaterial = "copper"\naxis = {a}\nentry = [0.0, 0.0]\n'
                'spacing = 1.0e-4\n')

@@ -65,6 +65,12 @@ template <int Dim> struct ParticleFields {
   // compression. The group is the body, or with "auto" the bodies touching at t = 0 merged.
   Field<std::int32_t> contactGroup;
 
+  // [[boundary]] type = "pressure" (methods/modules/ConfiningPressure.hpp): the load on each
+  // owned particle's body at the force evaluation (Pa), and its share of the free surface (m^2,
+  // outward) as the force loop finds it.
+  Field<double> confiningPressure;
+  Field<Vec<Dim>> surfaceArea;
+
   bool anisotropic() const { return H.valid(); }
   bool hasStrength() const { return S.valid(); }
   bool hasDamage() const { return damage.valid(); }

@@ -188,6 +188,14 @@ struct FragmentsConfig {
   SourceLocation where;
 };
 
+// [damping]: a = a - c v on every particle until `until` (Austin 2013, Eq. 5.1), so that a body
+// brought to a confining pressure settles before the shot, in the same run.
+struct DampingConfig {
+  double coefficient = 0.0; // c, 1/s
+  double until = 0.0;       // s
+  SourceLocation where;
+};
+
 // [penetration]: penetration.csv (diagnostics/Penetration.hpp).
 struct PenetrationConfig {
   std::vector<std::string> penetrator; // body names
@@ -215,6 +223,7 @@ struct Deck {
   std::vector<BodyConfig> bodies;
   std::vector<EnergySourceConfig> energy_sources;
   std::vector<BoundaryConfig> boundaries;
+  std::optional<DampingConfig> damping;
   OutputConfig output;
   std::optional<CheckpointConfig> checkpoint;
   std::vector<ProbeConfig> probes;

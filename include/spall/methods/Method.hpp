@@ -8,6 +8,7 @@
 #include "spall/methods/Module.hpp"
 #include "spall/methods/StepStats.hpp"
 
+#include <array>
 #include <cstdint>
 #include <memory>
 
@@ -20,8 +21,9 @@ public:
   // functions (p, cs).
   virtual void start(const RunStart& run) = 0;
   // The rates of the current state: before the first step of a new run (a restart reads the
-  // checkpointed ones instead). `step` is the step count so far.
-  virtual void evaluate(std::int64_t step) = 0;
+  // checkpointed ones instead), or after a body joined. `step` is the step count so far, `time`
+  // the state's time.
+  virtual void evaluate(std::int64_t step, double time) = 0;
   // Advances the state from step `step` at time `time` by dt, then checks it (RunError naming
   // the particle and the field when a value went non-finite).
   virtual void advance(double dt, std::int64_t step, double time) = 0;
@@ -36,6 +38,10 @@ public:
   // the owned particles and returns the catalogue (diagnostics/Fragments.hpp).
   virtual diagnostics::FragmentCatalogue findFragments(double linkLength,
                                                        double damageThreshold) = 0;
+  // The work (J) and the impulse (N s) of the external forces on the particles since t = 0 (a
+  // confining pressure, damping): what the total energy and momentum are expected to have gained.
+  virtual double externalWork() const = 0;
+  virtual std::array<double, 3> externalImpulse() const = 0;
   // The kernel support in units of h (probes sample within it).
   virtual double support() const = 0;
   virtual StepStats& stats() = 0;

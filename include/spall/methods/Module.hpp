@@ -7,10 +7,23 @@
 #include "spall/core/ParticleFields.hpp"
 #include "spall/io/Checkpoint.hpp"
 
+#include <array>
 #include <cstdint>
 #include <span>
 
 namespace spall::methods {
+
+// What the external forces a module applies do to the owned particles in a state: their power
+// (W) and their sum (N), for the conservation line's books.
+struct ExternalLoad {
+  double power = 0.0;
+  std::array<double, 3> force{0.0, 0.0, 0.0};
+  ExternalLoad& operator+=(const ExternalLoad& o) {
+    power += o.power;
+    for (std::size_t d = 0; d < 3; ++d) force[d] += o.force[d];
+    return *this;
+  }
+};
 
 // What a new run knows at t = 0 beyond the particles a rank owns, or, when a body joins the run
 // later (insert_time), which owned rows are new.
@@ -28,8 +41,21 @@ public:
   // owned particles from row start.first on.
   virtual void initialise(ParticleStore& /*s*/, const ParticleFields<Dim>& /*f*/,
                           const RunStart& /*start*/) const {}
-  // After each force evaluation, on the owned particles' rates.
-  virtual void afterRates(ParticleStore& /*s*/, const ParticleFields<Dim>& /*f*/) const {}
+  // Before each force evaluation of the state at `time`: what the force loop reads of the owned
+  // particles besides their state (a boundary load now).
+  virtual void beforeRates(ParticleStore& /*s*/, const ParticleFields<Dim>& /*f*/,
+                           double /*time*/) const {}
+  // After each force evaluation of the state at `time`, on the owned particles' rates.
+  virtual void afterRates(ParticleStore& /*s*/, const ParticleFields<Dim>& /*f*/,
+                          double /*time*/) const {}
+  // Whether the module applies external forces (then the method books their work).
+  virtual bool appliesExternalForces() const { return false; }
+  // The power and the sum of the external forces the module applies to the owned particles in
+  // the state at `time` (the last evaluation's): what the conservation line books.
+  virtual ExternalLoad externalLoad(const ParticleStore& /*s*/, const ParticleFields<Dim>& /*f*/,
+                                    double /*time*/) const {
+    return {};
+  }
   // Once per step, before the material update, with the step's dt: history that integrates the
   // velocity gradient the material update is about to use.
   virtual void beforeMaterials(ParticleStore& /*s*/, const ParticleFields<Dim>& /*f*/,

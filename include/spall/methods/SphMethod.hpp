@@ -1,8 +1,9 @@
 #pragma once
 // SPH and ASPH as one step list (SphMethod::advance reads top to bottom): kick-drift, material
-// update, migration, halo, wall images, neighbors, density, kernel correction, forces, module
-// hooks, kick, EOS refresh, smoothing update, checks, rebalance. The physics is in solvers/ and
-// materials/, the parallel machinery in parallel/; this file only orders them.
+// update, migration, halo, wall images, neighbors, density, kernel correction, module hooks,
+// forces, module hooks, kick, EOS refresh, smoothing update, external work, checks, rebalance.
+// The physics is in solvers/ and materials/, the parallel machinery in parallel/; this file only
+// orders them.
 #include "spall/core/Error.hpp"
 #include "spall/core/ParticleFields.hpp"
 #include "spall/materials/MaterialUpdate.hpp"
@@ -33,12 +34,14 @@ public:
 
   void start(const RunStart& run) override;
   diagnostics::FragmentCatalogue findFragments(double linkLength, double damageThreshold) override;
-  void evaluate(std::int64_t step) override;
+  void evaluate(std::int64_t step, double time) override;
   void advance(double dt, std::int64_t step, double time) override;
   double stableTimeStep(double floor, std::int64_t step, double time) override;
   ParticleReport timeStepSetter() const override;
   ParticleReport particle(ParticleId id) const override;
   double support() const override { return solver_->support(); }
+  double externalWork() const override { return externalWork_; }
+  std::array<double, 3> externalImpulse() const override { return externalImpulse_; }
   StepStats& stats() override { return stats_; }
   void save(io::CheckpointState& st) const override;
   void restore(const io::CheckpointState& st) override;
@@ -54,7 +57,10 @@ private:
   void findNeighbors(std::int64_t step);
   void densityPass();
   void kernelCorrection();
-  void forces();
+  void rates(std::int64_t step, double time); // evaluate() without the external power
+  void forces(double time);
+  ExternalLoad externalLoad(double time) const; // all ranks
+  void bookExternal(double dt, const ExternalLoad& now);
   materials::MaterialFields materialFields();
   void checkFinite(std::int64_t step, double time) const;
   // The fields of owned row i that no state can have (non-finite, non-positive density or h):
@@ -86,6 +92,11 @@ private:
   std::vector<double> reach_;
   std::vector<Vec<Dim>> boxReach_; // ASPH: the supports' bounding boxes
   StepStats stats_;
+  // The work and impulse of the external forces the modules apply (a confining pressure,
+  // damping), by the trapezoidal rule over the steps, and their load in the last evaluated state.
+  double externalWork_ = 0.0;
+  std::array<double, 3> externalImpulse_{0.0, 0.0, 0.0};
+  ExternalLoad external_;
 };
 
 } // namespace spall::methods

@@ -3,8 +3,10 @@
 // these; the solvers know nothing of TOML.
 #include "spall/core/Error.hpp"
 
+#include <cstdint>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace spall {
@@ -94,13 +96,18 @@ struct SolverConfig {
 };
 
 struct BoundaryConfig {
-  std::string type;                  // "rigid_wall" | "periodic"
+  std::string type;                  // "rigid_wall" | "periodic" | "pressure"
   std::vector<double> point, normal; // rigid_wall (normal points into the material)
   // rigid_wall: a particle found behind the plane is folded back (position and velocity
   // mirrored). The rz axis is such a mirror: a ring cannot have r < 0.
   bool fold = false;
   int axis = 0;                // periodic: 0 = x, 1 = y, 2 = z
   double min = 0.0, max = 0.0; // periodic
+  // pressure: the body it loads (name and index in the deck) and its (time, Pa) table, linear
+  // between rows, the first value before the first row and the last after the last.
+  std::string body;
+  std::int32_t bodyIndex = -1;
+  std::vector<std::pair<double, double>> pressure;
   SourceLocation where;
 };
 

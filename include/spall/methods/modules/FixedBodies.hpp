@@ -16,7 +16,7 @@ public:
     std::sort(bodies_.begin(), bodies_.end());
   }
   void registerFields(ParticleStore& /*s*/, ParticleFields<Dim>& /*f*/) override {}
-  void afterRates(ParticleStore& s, const ParticleFields<Dim>& f) const override {
+  void afterRates(ParticleStore& s, const ParticleFields<Dim>& f, double /*time*/) const override {
     const auto body = s[f.body];
     const auto a = s[f.a];
     for (std::size_t i = 0; i < s.localCount(); ++i)
