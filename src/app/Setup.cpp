@@ -146,7 +146,7 @@ std::vector<materials::Material> buildMaterials(const Deck& deck) {
     // A cap material has no eos (DeckMaterial.cpp): its placeholder is never evaluated.
     const materials::Eos eos = m.strength.type == "cap" ? materials::Eos{} : buildEos(m);
     out.push_back({eos, buildStrength(m.strength), buildDamage(m.damage), erosionOf(m.erosion),
-                   buildCap(m), buildPorosity(m, eos)});
+                   buildCap(m), buildPorosity(m, eos), m.eos.min_pressure});
   }
   return out;
 }

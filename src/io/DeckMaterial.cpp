@@ -47,6 +47,10 @@ void readEos(const TableReader& r, EosConfig& e) {
     r.check(e.e_iv > 0.0, "e_iv", "> 0", e.e_iv);
     r.check(e.e_cv > e.e_iv, "e_cv", "> e_iv (" + formatNumber(e.e_iv) + ")", e.e_cv);
   }
+  if (e.type != "ideal_gas") {
+    e.min_pressure = r.number("min_pressure").value_or(e.min_pressure);
+    r.check(e.min_pressure <= 0.0, "min_pressure", "<= 0 (a tension, Pa)", e.min_pressure);
+  }
 }
 
 // strength = {type = "cap", ...}: the keys of INTERFACE.md; compression negative.

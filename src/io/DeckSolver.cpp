@@ -83,6 +83,9 @@ void readSolver(const TableReader& r, SolverConfig& s) {
   r.check(s.h_max > s.h_min, "h_max", "> h_min (" + formatNumber(s.h_min) + ")", s.h_max);
   s.h_max_ratio = r.number("h_max_ratio").value_or(s.h_max_ratio);
   r.check(s.h_max_ratio > 0.0, "h_max_ratio", "> 0", s.h_max_ratio);
+  s.h_min_ratio = r.number("h_min_ratio").value_or(s.h_min_ratio);
+  r.check(s.h_min_ratio >= 0.0 && s.h_min_ratio <= s.h_max_ratio, "h_min_ratio",
+          ">= 0 and <= h_max_ratio (" + formatNumber(s.h_max_ratio) + ")", s.h_min_ratio);
   s.max_aspect_ratio = r.number("max_aspect_ratio").value_or(s.max_aspect_ratio);
   r.check(s.max_aspect_ratio >= 1.0, "max_aspect_ratio", ">= 1", s.max_aspect_ratio);
 }

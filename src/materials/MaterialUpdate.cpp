@@ -15,8 +15,14 @@ template <class E> struct EosStage {
   const std::optional<PAlpha>& porosity;
   const MaterialFields& f;
   bool advance;
+  double pMin; // the material's tension limit
 
   EosState operator()(std::size_t i) const {
+    const EosState r = state(i);
+    return {std::max(r.p, pMin), r.cs};
+  }
+
+  EosState state(std::size_t i) const {
     if (!porosity) return eos.evaluate(f.rho[i], f.e[i]);
     const bool elastic = porosity->elastic();
     const PorousState s = advance ? compact(*porosity, eos, f.rho[i], f.e[i],
@@ -74,7 +80,7 @@ void MaterialUpdate::evaluate(const MaterialFields& f) const {
     const bool tensorMode = mat.tensorDamage();
     std::visit(
         [&](const auto& eos) {
-          const EosStage<std::decay_t<decltype(eos)>> stage{eos, mat.porosity, f, false};
+          const EosStage<std::decay_t<decltype(eos)>> stage{eos, mat.porosity, f, false, mat.pMin};
           for (std::size_t i = 0; i < n; ++i) {
             if (f.material[i] != id) continue;
             const EosState r = stage(i);
@@ -107,7 +113,7 @@ void MaterialUpdate::update(const MaterialFields& f, double dt) const {
     if (!mat.strength) { // a fluid: the EOS stage alone
       std::visit(
           [&](const auto& eos) {
-            const EosStage<std::decay_t<decltype(eos)>> stage{eos, mat.porosity, f, true};
+            const EosStage<std::decay_t<decltype(eos)>> stage{eos, mat.porosity, f, true, mat.pMin};
             for (std::size_t i = 0; i < n; ++i) {
               if (f.material[i] != id) continue;
               const EosState r = stage(i);
@@ -125,7 +131,7 @@ void MaterialUpdate::update(const MaterialFields& f, double dt) const {
     std::visit(
         [&](const auto& eos, const auto& strength) {
           const double G = strength.shearModulus();
-          const EosStage<std::decay_t<decltype(eos)>> stage{eos, mat.porosity, f, true};
+          const EosStage<std::decay_t<decltype(eos)>> stage{eos, mat.porosity, f, true, mat.pMin};
           for (std::size_t i = 0; i < n; ++i) {
             if (f.material[i] != id) continue;
             const StrengthState next = strength.update(
@@ -179,7 +185,7 @@ void MaterialUpdate::updateDamaged(const Material& mat, std::int32_t id, const M
       [&](const auto& eos, const auto& strength, const auto& damage) {
         using D = std::decay_t<decltype(damage)>;
         const double G = strength.shearModulus();
-        const EosStage<std::decay_t<decltype(eos)>> stage{eos, mat.porosity, f, true};
+        const EosStage<std::decay_t<decltype(eos)>> stage{eos, mat.porosity, f, true, mat.pMin};
         for (std::size_t i = 0; i < n; ++i) {
           if (f.material[i] != id) continue;
           const StrengthState before{f.Sintact[i], f.plasticStrain[i], f.temperature[i]};

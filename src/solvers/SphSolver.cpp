@@ -135,8 +135,8 @@ public:
     const auto m = planarMass();
     const auto rho = s_[f_.rho];
     const auto sumWH = s_[f_.sumWH];
-    const SmoothingLimits lim{cfg_.nodes_per_h, cfg_.h_min, cfg_.h_max, cfg_.h_max_ratio,
-                              cfg_.max_aspect_ratio};
+    const SmoothingLimits lim{cfg_.nodes_per_h, cfg_.h_min,       cfg_.h_max,
+                              cfg_.h_min_ratio, cfg_.h_max_ratio, cfg_.max_aspect_ratio};
     for (std::size_t i = 0; i < s_.localCount(); ++i) {
       const double factor = sizeFactor(psi_.nodesPerH(root<Dim>(sumWH[i])), cfg_.nodes_per_h);
       if constexpr (Aniso) {
@@ -319,7 +319,9 @@ private:
       [[maybe_unused]] MatD SiOwn, Li, Ri, Bi;
       // rz: -sum_j V_j x_ij,r g_ij,r with the velocity gradient's and the divergence's kernel
       // gradients, the normalisation the hoop rate is given (solvers/Axisymmetric.hpp).
-      [[maybe_unused]] double Mrr = 1.0, MrrVolume = 0.0, kr = 0.0, krAS = 0.0;
+      // k_r's share from pairs across a contact or crack (krAcross), where i's own stress enters
+      // the pair term as -max(p_i, 0) I only.
+      [[maybe_unused]] double Mrr = 1.0, MrrVolume = 0.0, kr = 0.0, krAcross = 0.0, krAS = 0.0;
       if constexpr (Solid) {
         SiOwn = sOverRho_[i]; // S_i/rho_i^2, or S_i/rho_i for the product form
         Li.setZero();
@@ -420,7 +422,9 @@ private:
         if constexpr (Dim == 2)
           if (rz) {
             w = rz::pairWeight(ringR_[i], ringR_[j]);
-            kr += mj * (w - 1.0) * rj.s * gI[0];
+            const double k = mj * (w - 1.0) * rj.s * gI[0];
+            kr += k;
+            if (across) krAcross += k;
             mj *= w;
             wVol *= w;
           }
@@ -524,9 +528,16 @@ private:
       [[maybe_unused]] double Dtt = 0.0;
       if constexpr (Dim == 2)
         if (rz) {
+          // The hoop force is the complement of the pair weights, pair by pair: where a pair
+          // carries -max(p_i, 0) I of i's stress (across a contact or a crack), its share of the
+          // hoop force carries the same. Else a ring whose pairs are all cracked, in tension,
+          // has a hoop pull no radial stress balances and no hoop rate relaxes (its density is
+          // frozen): it falls toward the axis, its p dV work drives e, and with it the tension,
+          // down without bound (a steel ring among eroded tungsten reached -3e14 Pa).
           const double sigmaTT = (Solid ? Sdev[i](2, 2) : 0.0) - p[i];
           const rz::HoopForce hoop =
-              rz::hoopForce(kr, sigmaTT, product ? 1.0 / rhoi : 1.0 / (rhoi * rhoi), vi[0]);
+              rz::hoopForce(kr - krAcross, sigmaTT, -std::max(p[i], 0.0), krAcross,
+                            product ? 1.0 / rhoi : 1.0 / (rhoi * rhoi), vi[0]);
           ai[0] += hoop.ar;
           dei += hoop.dedt;
           if constexpr (Solid)

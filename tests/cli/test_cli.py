@@ -160,6 +160,14 @@ def main():
         deck_error("pressure_twice", t, [k for k, l in enumerate(t.splitlines(), 1)
                                          if l == "[[boundary]]"][1], 1,
                    ["has a pressure boundary already"], tmp)
+        # The EOS's tension limit is a tension (<= 0); h's volume ratios are ordered.
+        t = replace_line(ok, "gamma0 = 2.02 }", "gamma0 = 2.02, min_pressure = 1.0e9 }")
+        ln = line_of(t, "min_pressure")[0]
+        deck_error("eos_min_pressure", t, ln, t.splitlines()[ln - 1].index("1.0e9") + 1,
+                   ["min_pressure", "<= 0"], tmp)
+        t = ok + "[solver]\nh_min_ratio = 3.0\n"
+        deck_error("h_min_ratio", t, line_of(t, "h_min_ratio =")[0], 15,
+                   ["h_min_ratio", "<= h_max_ratio (2)"], tmp)
         t = ok + "[damping]\ncoefficient = -1.0\nuntil = 1.0e-6\n"
         deck_error("damping_coefficient", t, line_of(t, "coefficient =")[0], 15,
                    ["coefficient", "> 0"], tmp)

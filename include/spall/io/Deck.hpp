@@ -40,6 +40,9 @@ struct EosConfig {
   // tillotson (Tillotson 1962; materials/Eos.hpp)
   double a = 0.0, b = 0.0, A = 0.0, B = 0.0, alpha = 0.0, beta = 0.0;
   double e0 = 0.0, e_iv = 0.0, e_cv = 0.0;
+  // The tension limit (Pa, <= 0): the pressure never falls below it (linear, mie_gruneisen,
+  // tillotson); none by default.
+  double min_pressure = -std::numeric_limits<double>::infinity();
   SourceLocation where;
 };
 

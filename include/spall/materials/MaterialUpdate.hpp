@@ -16,6 +16,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <span>
 #include <vector>
@@ -29,6 +30,11 @@ struct Material {
   Erosion erosion = Erosion::None;
   std::optional<CapPlasticity> cap = std::nullopt; // the whole stress: eos and strength unused
   std::optional<PAlpha> porosity = std::nullopt;   // P-alpha around the eos
+  // The EOS's tension limit: p = max(p_eos, pMin) (a hydrodynamic spall cutoff, as hydrocodes'
+  // minimum pressure). Without damage the Mie-Gruneisen form carries any tension a stretched
+  // particle asks of it (-40 GPa at 0.7 rho0 in copper); e falls under compression in tension,
+  // which deepens the tension, and a hot jet tip ran away so (decks/README.md, "Penetration").
+  double pMin = -std::numeric_limits<double>::infinity();
 
   bool solid() const { return strength.has_value() || cap.has_value(); }
   double shearModulus() const {

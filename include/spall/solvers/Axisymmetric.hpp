@@ -44,12 +44,15 @@ inline double pairWeight(double Ri, double Rj) {
 }
 
 // The hoop force and its work, from k_r (above): a_r = -2 sigma_tt c k_r, de/dt = -a_r v_r, with
-// sigma_tt = S_tt - p and c = 1/rho^2 (rho^2 form) or 1/rho (product form).
+// sigma_tt = S_tt - p and c = 1/rho^2 (rho^2 form) or 1/rho (product form). k_r comes in two
+// shares: kr from pairs that carry the full stress (sigmaTT), krAcross from pairs across a
+// contact or crack, which carry -max(p, 0) I of it (sigmaAcross).
 struct HoopForce {
   double ar, dedt;
 };
-inline HoopForce hoopForce(double kr, double sigmaTT, double c, double vr) {
-  const double ar = -2.0 * sigmaTT * c * kr;
+inline HoopForce hoopForce(double kr, double sigmaTT, double sigmaAcross, double krAcross, double c,
+                           double vr) {
+  const double ar = -2.0 * sigmaTT * c * kr - 2.0 * sigmaAcross * c * krAcross;
   return {ar, -ar * vr};
 }
 

@@ -83,11 +83,15 @@ struct SolverConfig {
   ArtificialStressConfig artificial_stress;
   VelocityGradient velocity_gradient = VelocityGradient::Sph;
   Contact contact = Contact::Welded; // the deck's default is Auto (io/DeckSolver)
-  // Limits on the smoothing scale: absolute bounds [h_min, h_max] in m (0 / inf: none), and a
-  // bound relative to the particle's own volume: h <= h_max_ratio * n_h * (m/rho)^(1/dim), which
-  // stops h from growing without end at free surfaces, where the neighbor count is one-sided.
+  // Limits on the smoothing scale: absolute bounds [h_min, h_max] in m (0 / inf: none), and
+  // bounds relative to the particle's own volume, h_min_ratio <= h / (n_h (m/rho)^(1/dim)) <=
+  // h_max_ratio. The upper one stops h from growing without end at free surfaces, where the
+  // neighbor count is one-sided; the lower one stops it from shrinking without end where
+  // particles pile up closer than their own volumes allow (stress-free debris of eroded
+  // particles: h fell to a tenth of the spacing and the time step with it).
   double h_min = 0.0;
   double h_max = std::numeric_limits<double>::infinity();
+  double h_min_ratio = 0.5;
   double h_max_ratio = 2.0;
   // ASPH: the longest axis of the smoothing ellipsoid is at most this many times the shortest.
   double max_aspect_ratio = 10.0;

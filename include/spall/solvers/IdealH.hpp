@@ -29,9 +29,10 @@ inline double sizeFactor(double nh, double target) {
 }
 
 // The bounds on h (or on every axis of H): [hMin, hMax], the longest at most hMaxRatio n_h
+// (m/rho)^(1/nu), the size (ASPH: the mean axis, |H|^(-1/nu)) at least hMinRatio n_h
 // (m/rho)^(1/nu), and (ASPH) longest/shortest at most maxAspectRatio.
 struct SmoothingLimits {
-  double nodesPerH, hMin, hMax, hMaxRatio, maxAspectRatio;
+  double nodesPerH, hMin, hMax, hMinRatio, hMaxRatio, maxAspectRatio;
 };
 
 // SPH: h' = factor h within the limits.
@@ -39,7 +40,7 @@ template <int Dim>
 double idealH(double h, double factor, double m, double rho, const SmoothingLimits& lim) {
   double hNew = factor * h;
   const double hVolume = lim.nodesPerH * root<Dim>(m / rho);
-  hNew = std::min(hNew, lim.hMaxRatio * hVolume);
+  hNew = std::clamp(hNew, lim.hMinRatio * hVolume, lim.hMaxRatio * hVolume);
   return std::clamp(hNew, lim.hMin, lim.hMax);
 }
 
@@ -116,10 +117,11 @@ void idealHTensor(Tensor<Dim>& H, double& h, double factor, const Tensor<Dim>& p
   const SymmetricEigen<Dim> axes = symmetricEigen<Dim>(psi2x);
   const bool axesKnown = axes.values[0] > 1e-6 * axes.values[Dim - 1] && axes.values[0] > 0.0;
   const Tensor<Dim> Q = axesKnown ? axes.vectors : symmetricEigen<Dim>(G).vectors;
-  lambda *= size / root<Dim>(lambda.prod());
+  // The size within its floor: 1/size is the mean axis.
+  const double hVolume = lim.nodesPerH * root<Dim>(m / rho);
+  lambda *= std::min(size, 1.0 / (lim.hMinRatio * hVolume)) / root<Dim>(lambda.prod());
   // Limits on the axes 1/lambda.
-  const double hVolume = lim.hMaxRatio * lim.nodesPerH * root<Dim>(m / rho);
-  const double hLongest = std::min(lim.hMax, hVolume);
+  const double hLongest = std::min(lim.hMax, lim.hMaxRatio * hVolume);
   for (int k = 0; k < Dim; ++k) lambda[k] = std::clamp(lambda[k], 1.0 / hLongest, 1.0 / lim.hMin);
   const double lambdaMin = std::max(lambda.minCoeff(), lambda.maxCoeff() / lim.maxAspectRatio);
   for (int k = 0; k < Dim; ++k) lambda[k] = std::max(lambda[k], lambdaMin);

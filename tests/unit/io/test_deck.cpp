@@ -432,7 +432,7 @@ TEST_F(DeckTest, EosKeyOfAnotherTypeIsUnknown) {
   const std::string line = R"(eos = { type = "linear", bulk_modulus = 1.4e11, c0 = 3940.0 })";
   expectError(withLine(kDeck1D, 14, line), 14, columnOf(line + "\n", 1, "c0"),
               "unknown key 'c0' in the eos of material 'copper' (eos type 'linear' takes: "
-              "bulk_modulus)");
+              "bulk_modulus, min_pressure)");
 }
 
 // ---- damage and erosion ----

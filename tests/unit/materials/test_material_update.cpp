@@ -82,3 +82,35 @@ TEST(MaterialUpdate, UpdateRunsStrengthThenEosAndEvaluateAdvancesNoHistory) {
   EXPECT_EQ(P.p[0], eos.evaluate(9100.0, P.e[0]).p);
   EXPECT_EQ(P.p[1], advanced.p[1]);
 }
+
+TEST(MaterialUpdate, TensionLimitFloorsThePressureAndLeavesTheSoundSpeed) {
+  // Copper's Mie-Gruneisen EOS at 0.7 rho0 gives about -40 GPa; with a tension limit of -1.5 GPa
+  // the pressure is the limit in update and evaluate alike, for a fluid and for a solid, the
+  // sound speed stays the EOS's, and a compressed particle keeps its EOS pressure (exact: the
+  // floor is a max).
+  const double rho0 = 8930.0, pMin = -1.5e9;
+  const MieGruneisen eos{rho0, 3940.0, 1.49, 2.02};
+  const JohnsonCook jc{46e9, 90e6, 292e6, 0.31, 0.025, 1.09, 1.0, 293.0, 1356.0, 383.0, 0.9};
+  Material fluid{eos, std::nullopt}, solid{eos, Strength{jc}};
+  fluid.pMin = solid.pMin = pMin;
+  MaterialUpdate limited({fluid, solid}), free({{eos, std::nullopt}, {eos, Strength{jc}}});
+  for (bool advance : {false, true}) {
+    Particles a(4), b(4);
+    for (Particles* P : {&a, &b}) {
+      P->rho = {0.7 * rho0, 0.7 * rho0, 1.1 * rho0, 1.1 * rho0};
+      P->mat = {0, 1, 0, 1};
+      P->T = {293.0, 293.0, 293.0, 293.0};
+    }
+    if (advance) {
+      limited.update(a.fields(), 1e-9), free.update(b.fields(), 1e-9);
+    } else {
+      limited.evaluate(a.fields()), free.evaluate(b.fields());
+    }
+    for (std::size_t i = 0; i < 2; ++i) {
+      ASSERT_LT(b.p[i], 10.0 * pMin); // the EOS's own tension, far past the limit
+      EXPECT_EQ(a.p[i], pMin);
+      EXPECT_EQ(a.cs[i], b.cs[i]);
+    }
+    for (std::size_t i = 2; i < 4; ++i) EXPECT_EQ(a.p[i], b.p[i]);
+  }
+}

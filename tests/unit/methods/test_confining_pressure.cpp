@@ -35,7 +35,9 @@ TEST(ConfiningPressure, EachParticleGetsItsBodysLoadAtTheTime) {
   EXPECT_EQ(P[1], 0.0); // not loaded
   EXPECT_DOUBLE_EQ(P[2], 25.0);
   EXPECT_EQ(P[3], 0.0); // beyond the last loaded body
-  // The load on the owned particles, -P A, and its power -P A . v.
+  // The load on the owned particles, -P A, and its power -P A . v (a grown column's rows are
+  // not initialised: every particle's area and velocity set).
+  for (std::size_t i = 0; i < 4; ++i) s[f.surfaceArea][i] = s[f.v][i] = Vec<2>::Zero();
   s[f.surfaceArea][2] = Vec<2>(0.0, 2.0);
   s[f.v][2] = Vec<2>(1.0, -3.0);
   const ExternalLoad load = module.externalLoad(s, f, 2.5);
