@@ -410,27 +410,7 @@ void DeckReader::readBoundary(const TableReader& r, BoundaryConfig& b,
   } else if (b.type == "pressure") {
     b.body = r.required(r.string("body"), "body");
     b.bodyIndex = bodyIndex(r, "body", b.body, bodies);
-    const toml::array* rows = r.table().get_as<toml::array>("pressure");
-    if (!rows) r.missing("pressure");
-    const std::string form = r.quoted("pressure") + " is a table of [time, pressure] rows (s, Pa)";
-    if (rows->empty()) r.fail("pressure", form + ": it has none");
-    for (const toml::node& node : *rows) {
-      const toml::array* row = node.as_array();
-      if (!row || row->size() != 2) throw DeckError(r.whereNode(node), form);
-      double tp[2];
-      for (std::size_t c = 0; c < 2; ++c) {
-        const auto x = (*row)[c].value<double>();
-        if (!x || !std::isfinite(*x))
-          throw DeckError(r.whereNode((*row)[c]), form + ": this is not a finite number");
-        tp[c] = *x;
-      }
-      if (tp[0] < 0.0) throw DeckError(r.whereNode((*row)[0]), form + ": times are >= 0");
-      if (!b.pressure.empty() && !(tp[0] > b.pressure.back().first))
-        throw DeckError(r.whereNode((*row)[0]),
-                        form + ": times must increase from row to row (" + dd::formatNumber(tp[0]) +
-                            " after " + dd::formatNumber(b.pressure.back().first) + ")");
-      b.pressure.emplace_back(tp[0], tp[1]);
-    }
+    b.pressure = dd::readPressureTable(r);
   } else { // periodic
     const std::int64_t axis = r.required(r.integer("axis"), "axis");
     r.check(axis >= 0 && axis < static_cast<std::int64_t>(dimension_), "axis",

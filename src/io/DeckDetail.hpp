@@ -12,6 +12,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace spall::io::deck_detail {
@@ -130,6 +131,10 @@ void inlineJetFiles(toml::table& root, const std::string& deckPath);
 void readJet(const TableReader& r, std::size_t dimension, bool rz,
              const std::vector<MaterialConfig>& materials, std::vector<BodyConfig>& bodies,
              const std::string& name);
+
+// A [[boundary]] type = "pressure"'s `pressure` table (DeckPressureTable.cpp): (time s, Pa) rows,
+// times rising from >= 0.
+std::vector<std::pair<double, double>> readPressureTable(const TableReader& r);
 
 // A typed table ({type = ..., ...}) takes "type" and the keys of its type (schema above).
 void allowTypedKeys(const TableReader& r, std::string_view path, const std::string& type,
