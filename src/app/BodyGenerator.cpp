@@ -336,6 +336,9 @@ double fillBody(const Deck& deck, const std::vector<materials::Material>& materi
                          ->gradient[static_cast<std::size_t>(a)][static_cast<std::size_t>(c)] *
                      r[c];
     }
+    if (const auto& sw = body.sine_velocity)
+      v[k] += std::sin((xi - toVec<Dim>(sw->origin)).dot(toVec<Dim>(sw->wavevector))) *
+              toVec<Dim>(sw->amplitude);
     m[k] = rho0 * s.volume * (rz ? 2.0 * std::numbers::pi * xi[0] : 1.0);
     rho[k] = rho0;
     e[k] = e0;

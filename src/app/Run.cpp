@@ -74,16 +74,14 @@ template <int Dim> void checkDim(const Deck& deck, const parallel::MpiContext& m
   if (!mpi.root()) return;
   fmt::print("deck {}: OK\n", deck.path);
   if (!deck.run.title.empty()) fmt::print("  title      {}\n", deck.run.title);
-  fmt::print("  dimension  {}D, solver {} ({}, n_h {:g}, density {})\n", Dim, deck.solver.method,
-             kernelName(deck.solver.kernel), deck.solver.nodes_per_h,
-             densityName(deck.solver.density));
+  fmt::print("  dimension  {}D, solver {}\n", Dim, methodSummary(deck));
   for (const auto& b : sim.bodies())
     fmt::print("  body       {:<16} {:>10} particles  mass {:.6g} kg  spacing {:.4g} m\n", b.name,
                b.particles, b.mass, b.spacing);
   fmt::print("  particles  {}\n  memory     ~{:.1f} MB (estimate)\n", sim.particles(),
              sim.memoryEstimate() / 1048576.0);
-  fmt::print("  first dt   {:.4g} s (before viscosity; end time {:.6g} s)\n", dt,
-             deck.run.end_time);
+  fmt::print("  first dt   {:.4g} s ({}; end time {:.6g} s)\n", dt,
+             deck.solver.method == "mpm" ? "the grid's" : "before viscosity", deck.run.end_time);
   fmt::print("  output     {}\n", deck.output.directory);
   for (const auto& w : sim.warnings()) fmt::print("  warning    {}\n", w);
 }

@@ -340,10 +340,8 @@ template <int Dim> void Simulation<Dim>::banner(RunLog& log, const fs::path& dir
   lines.push_back(fmt::format("spall {} (git {}): {}", BuildInfo::version(),
                               BuildInfo::gitRevision(),
                               deck_.run.title.empty() ? deck_.path : deck_.run.title));
-  lines.push_back(fmt::format("deck {} | {}D | {} {} n_h {:g} | density {} | {} rank{}", deck_.path,
-                              Dim, deck_.solver.method, kernelName(deck_.solver.kernel),
-                              deck_.solver.nodes_per_h, densityName(deck_.solver.density),
-                              mpi_.size(), mpi_.size() > 1 ? "s" : ""));
+  lines.push_back(fmt::format("deck {} | {}D | {} | {} rank{}", deck_.path, Dim,
+                              methodSummary(deck_), mpi_.size(), mpi_.size() > 1 ? "s" : ""));
   for (const auto& b : bodies_)
     lines.push_back(fmt::format("  body {:<16} {:>10} particles  mass {:.6g} kg  spacing {:.4g} m",
                                 b.name, b.particles, b.mass, b.spacing));

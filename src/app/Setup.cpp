@@ -9,6 +9,7 @@
 #include "spall/methods/modules/FrictionlessContact.hpp"
 #include "spall/methods/modules/Hydro.hpp"
 #include "spall/methods/modules/KernelCorrection.hpp"
+#include "spall/methods/modules/MaterialPoints.hpp"
 #include "spall/methods/modules/PAlpha.hpp"
 #include "spall/methods/modules/SmoothingTensor.hpp"
 #include "spall/methods/modules/Strength.hpp"
@@ -16,6 +17,7 @@
 
 #include <algorithm>
 #include <fmt/format.h>
+#include <limits>
 
 namespace spall::app {
 
@@ -174,8 +176,10 @@ std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck
 
   // The list: one line a module, in this order (the order their fields are registered in).
   std::vector<std::unique_ptr<methods::Module<Dim>>> list;
+  const bool mpm = solver.method == "mpm"; // no pair loop: no viscosity, correction, contact
   list.push_back(std::make_unique<methods::Hydro<Dim>>());
-  if (solver.artificial_viscosity.balsara)
+  if (mpm) list.push_back(std::make_unique<methods::MaterialPoints<Dim>>());
+  if (solver.artificial_viscosity.balsara && !mpm)
     list.push_back(std::make_unique<methods::BalsaraSwitch<Dim>>());
   if (solids)
     list.push_back(std::make_unique<methods::Strength<Dim>>(
@@ -203,10 +207,10 @@ std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck
         });
     list.push_back(std::make_unique<methods::PAlpha<Dim>>(alpha0, elastic));
   }
-  if (solids && solver.velocity_gradient == VelocityGradient::Corrected)
+  if (solids && solver.velocity_gradient == VelocityGradient::Corrected && !mpm)
     list.push_back(std::make_unique<methods::KernelCorrection<Dim>>());
   if (solver.method == "asph") list.push_back(std::make_unique<methods::SmoothingTensor<Dim>>());
-  if (solver.contact != Contact::Welded)
+  if (solver.contact != Contact::Welded && !mpm)
     list.push_back(std::make_unique<methods::FrictionlessContact<Dim>>());
   std::vector<typename methods::ConfiningPressure<Dim>::Load> loads;
   for (const auto& b : deck.boundaries)
@@ -248,6 +252,40 @@ methods::SphSetup sphSetup(const Deck& deck) {
   s.reproducible = deck.decomposition.reproducible;
   s.imbalanceThreshold = deck.decomposition.imbalance_threshold;
   return s;
+}
+
+methods::MpmSetup mpmSetup(const Deck& deck) {
+  methods::MpmSetup s;
+  s.solver = deck.solver;
+  s.boundaries = deck.boundaries;
+  s.imbalanceThreshold = deck.decomposition.imbalance_threshold;
+  double finest = std::numeric_limits<double>::infinity(), coarsest = 0.0;
+  for (const auto& b : deck.bodies) {
+    finest = std::min(finest, b.spacing / deck.run.resolution);
+    coarsest = std::max(coarsest, b.spacing / deck.run.resolution);
+  }
+  auto& c = s.solver.mpm;
+  c.cell_size = c.cell_size > 0.0 ? c.cell_size / deck.run.resolution : 2.0 * finest;
+  // uGIMP's weights hold (partition of unity, C1) for half-widths up to half a cell.
+  if (c.shape == MpmShape::Gimp && coarsest > c.cell_size * (1.0 + 1e-12))
+    throw DeckError(deck.solver.mpm.where,
+                    fmt::format("solver.mpm.cell_size: {:g} m (after run.resolution) is smaller "
+                                "than the coarsest body spacing, {:g} m; GIMP needs a point's box "
+                                "within half a cell (use a cell of at least the spacing, or "
+                                "shape = \"linear\")",
+                                c.cell_size, coarsest));
+  return s;
+}
+
+std::string methodSummary(const Deck& deck) {
+  const auto& s = deck.solver;
+  if (s.method == "mpm") {
+    const auto m = mpmSetup(deck).solver.mpm;
+    return fmt::format("mpm {} cell {:.4g} m flip {:g}",
+                       m.shape == MpmShape::Linear ? "linear" : "gimp", m.cell_size, m.flip);
+  }
+  return fmt::format("{} {} n_h {:g} | density {}", s.method, kernelName(s.kernel), s.nodes_per_h,
+                     densityName(s.density));
 }
 
 const char* kernelName(KernelType k) {

@@ -4,6 +4,7 @@
 #include "spall/app/StopSignals.hpp"
 #include "spall/app/SystemInfo.hpp"
 #include "spall/io/Xdmf.hpp"
+#include "spall/methods/MpmMethod.hpp"
 #include "spall/methods/SphMethod.hpp"
 
 #include <cmath>
@@ -40,13 +41,22 @@ Simulation<Dim>::Simulation(const Deck& deck, const parallel::MpiContext& mpi)
   dc.imbalanceThreshold = deck.decomposition.imbalance_threshold;
   decomposition_ =
       std::make_unique<parallel::Decomposition<Dim>>(mpi.comm(), dc, f_.id, f_.x, cost_);
-  methods::SphSetup setup = sphSetup(deck);
-  setup.note = [this](const std::string& line) {
+  const auto note = [this](const std::string& line) {
     if (log_) log_->note(line);
   };
-  method_ = std::make_unique<methods::SphMethod<Dim>>(
-      mpi, std::move(setup), materials::MaterialUpdate(materials_, deck_.run.seed),
-      std::move(modules), store_, f_, cost_, *decomposition_);
+  if (deck.solver.method == "mpm") {
+    methods::MpmSetup setup = mpmSetup(deck);
+    setup.note = note;
+    method_ = std::make_unique<methods::MpmMethod<Dim>>(
+        mpi, std::move(setup), materials::MaterialUpdate(materials_, deck_.run.seed),
+        std::move(modules), store_, f_, cost_, *decomposition_);
+  } else {
+    methods::SphSetup setup = sphSetup(deck);
+    setup.note = note;
+    method_ = std::make_unique<methods::SphMethod<Dim>>(
+        mpi, std::move(setup), materials::MaterialUpdate(materials_, deck_.run.seed),
+        std::move(modules), store_, f_, cost_, *decomposition_);
+  }
   probes_ = std::make_unique<diagnostics::Probes<Dim>>(deck.probes, store_,
                                                        deck.run.geometry == Geometry::RZ);
   if (const auto& pc = deck.penetration) {
@@ -156,6 +166,8 @@ template <int Dim> std::size_t Simulation<Dim>::memoryEstimate() const {
 }
 
 template <int Dim> double Simulation<Dim>::firstTimeStep() const {
+  // MPM's limit needs no force evaluation: the method's own (collective, as here).
+  if (deck_.solver.method == "mpm") return method_->stableTimeStep(0.0, 0, 0.0);
   const auto h = store_[f_.h];
   const auto cs = store_[f_.cs];
   const auto v = store_[f_.v];

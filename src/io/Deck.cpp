@@ -185,6 +185,7 @@ void DeckReader::read(Deck& deck) {
     p.name = readName(r, "probe", names);
     readProbe(r, p);
   });
+  dd::checkMpmScope(deck);
 }
 
 // Names address entries in messages and in --set paths, so they are unique and dot-free.
@@ -315,10 +316,17 @@ void DeckReader::readBody(const TableReader& r, const std::vector<MaterialConfig
     b.linear_velocity = LinearVelocityConfig{
         point(lv, "center"), lv.required(lv.matrix("gradient", dimension_), "gradient")};
   }
+  if (const toml::table* t = r.subtable("sine_velocity")) {
+    const TableReader sv = reader(*t, r.context().child("sine_velocity"));
+    sv.allowOnly(*dd::schemaKeys("body.sine_velocity"));
+    b.sine_velocity =
+        SineVelocityConfig{point(sv, "amplitude"), point(sv, "wavevector"), point(sv, "origin")};
+  }
   b.fixed = r.boolean("fixed").value_or(false);
   // A fixed body has no acceleration: at rest it is a clamp, with a uniform velocity a piston
   // driven at that speed. A velocity field would shear it forever.
-  if (b.fixed && (b.radial_velocity || b.cantilever_velocity || b.linear_velocity))
+  if (b.fixed &&
+      (b.radial_velocity || b.cantilever_velocity || b.linear_velocity || b.sine_velocity))
     r.fail("fixed", r.quoted("fixed") +
                         " body moves rigidly (at rest, or at its uniform `velocity`: a piston) and "
                         "cannot be given a velocity field");

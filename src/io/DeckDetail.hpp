@@ -121,6 +121,7 @@ int materialIndex(const TableReader& r, const std::string& name,
 
 // The [solver] table (DeckSolver.cpp).
 void readSolver(const TableReader& r, SolverConfig& s);
+void checkMpmScope(const Deck& deck);
 // One [[material]] table (DeckMaterial.cpp).
 void readMaterial(const TableReader& r, MaterialConfig& m);
 

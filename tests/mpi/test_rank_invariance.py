@@ -89,7 +89,12 @@ CASES = [("sod_1d.toml", []), ("rod_impact_copper.toml", ["run.end_time=6e-6"]),
          ("pumice_impact_2d.toml", ["run.end_time=1.5e-6", "run.resolution=0.5"]),
          # ... with elastic distension (Herrmann): an elastic trial solve, then the plastic one
          ("pumice_impact_2d.toml", ["run.end_time=1.0e-6", "run.resolution=0.5",
-                                    "material.pumice.porosity.elastic_sound_speed=1000"])]
+                                    "material.pumice.porosity.elastic_sound_speed=1000"]),
+         # MPM: every grid node sums its points in id order on whichever ranks hold them; 1D with
+         # a wall node, 2D through the disks' impact, 3D with Johnson-Cook against the wall
+         ("vibrating_bar_mpm_1d.toml", ["run.end_time=10"]),
+         ("two_disks_mpm_2d.toml", []),
+         ("taylor_bar_3d.toml", ["run.resolution=0.4", "run.max_steps=40", "solver.method=mpm"])]
 
 with tempfile.TemporaryDirectory() as tmp:
     tmp = Path(tmp)

@@ -253,6 +253,15 @@ with tempfile.TemporaryDirectory() as tmp:
     stopped_and_restarted(pumice, 1, tmp / "pum_el", elastic, 60,
                           "pumice impact with elastic distension, restart mid-compaction")
 
+    # MPM mid-impact: the grid's origin is checkpointed, the grid itself made afresh from the
+    # points (their half-widths checkpointed); 2D disks at step 200 of 440, the 3D Taylor bar
+    # against its wall (Johnson-Cook) at step 100.
+    stopped_and_restarted(SRC / "decks/two_disks_mpm_2d.toml", 2, tmp / "mpm_disks", [], 200,
+                          "two disks (MPM), 2 ranks, restart mid-impact")
+    stopped_and_restarted(SRC / "decks/taylor_bar_3d.toml", 2, tmp / "mpm_taylor",
+                          ["run.resolution=0.4", "run.end_time=1e-5", "solver.method=mpm"], 100,
+                          "Taylor bar (MPM, 3D), 2 ranks, restart mid-impact")
+
     # ---- N to M ------------------------------------------------------------------------------
     ckpt = tmp / "half2" / "checkpoints"
     for ranks in (1, 3):

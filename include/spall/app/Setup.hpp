@@ -4,9 +4,11 @@
 #include "spall/io/Deck.hpp"
 #include "spall/materials/MaterialUpdate.hpp"
 #include "spall/methods/Module.hpp"
+#include "spall/methods/MpmMethod.hpp"
 #include "spall/methods/SphSetup.hpp"
 
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace spall::app {
@@ -20,6 +22,13 @@ template <int Dim>
 std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck);
 
 methods::SphSetup sphSetup(const Deck& deck);
+// solver.method = "mpm": the cell size resolved (twice the finest body spacing when not given,
+// both after run.resolution).
+methods::MpmSetup mpmSetup(const Deck& deck);
+
+// The method and its main settings, for the banner and `spall check`: "sph cubic_spline n_h 1.5 |
+// density continuity", "mpm gimp cell 0.05 m flip 1".
+std::string methodSummary(const Deck& deck);
 
 const char* kernelName(KernelType k);
 const char* densityName(DensityMethod d);

@@ -71,6 +71,10 @@ template <int Dim> struct ParticleFields {
   Field<double> confiningPressure;
   Field<Vec<Dim>> surfaceArea;
 
+  // solver.method = "mpm" (methods/modules/MaterialPoints.hpp): the half-width l_p of each
+  // material point's box, what its GIMP weights are averaged over.
+  Field<double> halfWidth;
+
   bool anisotropic() const { return H.valid(); }
   bool hasStrength() const { return S.valid(); }
   bool hasDamage() const { return damage.valid(); }

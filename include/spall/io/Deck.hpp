@@ -114,6 +114,12 @@ struct LinearVelocityConfig {
   std::vector<std::vector<double>> gradient; // G: v += G (x - center), dimension x dimension
 };
 
+// A standing wave's velocity: v += amplitude sin(wavevector . (x - origin)) (a bar's vibration
+// mode: decks/vibrating_bar_mpm_1d.toml).
+struct SineVelocityConfig {
+  std::vector<double> amplitude, wavevector, origin;
+};
+
 struct RadialVelocityConfig {
   std::vector<double> center;
   double speed = 0.0; // added along (x - center)/|x - center|; negative: inflow (Noh)
@@ -145,6 +151,7 @@ struct BodyConfig {
   bool allow_overlap = false; // may overlap bodies listed before it
   std::optional<CantileverVelocityConfig> cantilever_velocity;
   std::optional<LinearVelocityConfig> linear_velocity;
+  std::optional<SineVelocityConfig> sine_velocity;
   bool fixed = false; // held in place: v = 0, a = 0 (a clamp); still carries stress
   SourceLocation where;
 };

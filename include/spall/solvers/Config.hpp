@@ -72,8 +72,21 @@ enum class Contact {
                 // bodies that meet later (impacts)
 };
 
+// The material point method's grid and transfers ([solver.mpm]).
+enum class MpmShape {
+  Linear, // tent functions of the nodes (Sulsky, Chen & Schreyer 1994)
+  Gimp    // uGIMP: the tent convolved with the particle's box of half-width l_p (Bardenhagen &
+          // Kober 2004, Eq. 37)
+};
+struct MpmConfig {
+  double cell_size = 0.0; // m; 0: twice the finest body spacing (io/Deck resolves it)
+  MpmShape shape = MpmShape::Gimp;
+  double flip = 1.0;    // 1: FLIP velocity update, 0: PIC, between: the blend
+  SourceLocation where; // the [solver.mpm] table (or [solver])
+};
+
 struct SolverConfig {
-  std::string method = "sph"; // "sph" | "asph" (later "mpm")
+  std::string method = "sph"; // "sph" | "asph" | "mpm"
   KernelType kernel = KernelType::CubicSpline;
   double nodes_per_h = 1.5; // n_h target (Owen 2010, Sec. II-A)
   double cfl = 0.25;
@@ -96,6 +109,7 @@ struct SolverConfig {
   // ASPH: the longest axis of the smoothing ellipsoid is at most this many times the shortest.
   double max_aspect_ratio = 10.0;
   Geometry geometry = Geometry::Cartesian; // from run.geometry
+  MpmConfig mpm;                           // solver.method = "mpm"
   SourceLocation where;
 };
 

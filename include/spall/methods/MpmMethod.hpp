@@ -1,0 +1,61 @@
+#pragma once
+// The material point method as one step list (MpmMethod::advance reads top to bottom): ghosts
+// for the grid, P2G, the grid's update, G2P, the ghosts' new velocities, the velocity gradient
+// from the remapped grid (MUSL), density and energy, the material update, migration. The
+// transfers are in solvers/MpmGrid, the materials the same `MaterialUpdate` SPH calls.
+#include "spall/methods/ParticleMethod.hpp"
+#include "spall/solvers/Config.hpp"
+#include "spall/solvers/MpmGrid.hpp"
+
+#include <memory>
+#include <vector>
+
+namespace spall::methods {
+
+struct MpmSetup {
+  SolverConfig solver;                    // its `mpm` table: cell size (resolved), shape, flip
+  std::vector<BoundaryConfig> boundaries; // rigid walls become grid constraints
+  double imbalanceThreshold = 1.1;
+  std::function<void(const std::string&)> note;
+};
+
+template <int Dim> class MpmMethod final : public ParticleMethod<Dim> {
+public:
+  MpmMethod(const parallel::MpiContext& mpi, MpmSetup setup, materials::MaterialUpdate materials,
+            std::vector<std::unique_ptr<Module<Dim>>> modules, ParticleStore& store,
+            const ParticleFields<Dim>& f, Field<std::int32_t> cost,
+            parallel::Decomposition<Dim>& decomposition);
+
+  void start(const RunStart& run) override;
+  void evaluate(std::int64_t step, double time) override;
+  void advance(double dt, std::int64_t step, double time) override;
+  // Probes and the penetration gauge sample within support() h: h is the particle's spacing
+  // times nodes_per_h, as SPH's at the start.
+  double support() const override { return 2.0; }
+  void save(io::CheckpointState& st) const override;
+  void restore(const io::CheckpointState& st) override;
+
+private:
+  using Base = ParticleMethod<Dim>;
+  using Base::checkFinite, Base::materialFields, Base::balance;
+  using Base::mpi_, Base::materials_, Base::modules_, Base::s_, Base::f_, Base::cost_,
+      Base::decomposition_, Base::halo_, Base::stats_;
+
+  std::pair<double, std::size_t> localTimeStep() const override;
+  void exchangeHalo() override;
+  void makeGrid();
+  solvers::MpmParticles<Dim> particles();
+  void idOrder();
+  void deform(double dt);
+
+  MpmSetup setup_;
+  Vec<Dim> origin_ = Vec<Dim>::Zero(); // the grid's node 0: set at t = 0, checkpointed
+  std::unique_ptr<solvers::MpmGrid<Dim>> grid_;
+  std::vector<std::size_t> haloFields_, velocityField_;
+  std::vector<std::uint32_t> order_; // rows in id order: every node sums in it
+  std::vector<Tensor<3>> L_;         // the step's velocity gradient (fluids: no L field)
+  std::vector<double> reach_;
+  std::vector<Vec<Dim>> boxReach_;
+};
+
+} // namespace spall::methods

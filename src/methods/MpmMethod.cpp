@@ -1,0 +1,214 @@
+#include "spall/methods/MpmMethod.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+namespace spall::methods {
+
+namespace {
+ParticleMethodSetup commonSetup(const MpmSetup& s) {
+  ParticleMethodSetup c;
+  c.imbalanceThreshold = s.imbalanceThreshold;
+  c.nodesPerH = s.solver.nodes_per_h;
+  c.note = s.note;
+  return c;
+}
+} // namespace
+
+template <int Dim>
+MpmMethod<Dim>::MpmMethod(const parallel::MpiContext& mpi, MpmSetup setup,
+                          materials::MaterialUpdate materials,
+                          std::vector<std::unique_ptr<Module<Dim>>> modules, ParticleStore& store,
+                          const ParticleFields<Dim>& f, Field<std::int32_t> cost,
+                          parallel::Decomposition<Dim>& decomposition)
+    : ParticleMethod<Dim>(mpi, commonSetup(setup), std::move(materials), std::move(modules), store,
+                          f, cost, decomposition),
+      setup_(std::move(setup)) {
+  haloFields_ = store.columnsWith(kHalo);
+  velocityField_ = {f.v.index};
+}
+
+// t = 0 (or a body joining): the modules' initial values (the points' half-widths among them),
+// p and cs; at t = 0 also the grid's origin, the lowest corner of all the points' boxes, so that
+// a body's face (and a wall it stands on) lies on a grid plane.
+template <int Dim> void MpmMethod<Dim>::start(const RunStart& run) {
+  for (const auto& m : modules_) m->initialise(s_, f_, run);
+  materials_.evaluate(materialFields());
+  if (run.first == 0) {
+    std::array<double, Dim> lo;
+    lo.fill(std::numeric_limits<double>::infinity());
+    const auto x = s_[f_.x];
+    const auto lp = s_[f_.halfWidth];
+    for (std::size_t i = 0; i < s_.localCount(); ++i)
+      for (int a = 0; a < Dim; ++a)
+        lo[static_cast<std::size_t>(a)] =
+            std::min(lo[static_cast<std::size_t>(a)], x[i][a] - lp[i]);
+    MPI_Allreduce(MPI_IN_PLACE, lo.data(), Dim, MPI_DOUBLE, MPI_MIN, mpi_.comm());
+    for (int a = 0; a < Dim; ++a)
+      origin_[a] =
+          std::isfinite(lo[static_cast<std::size_t>(a)]) ? lo[static_cast<std::size_t>(a)] : 0.0;
+  }
+  makeGrid();
+}
+
+// The state alone determines the next step (the grid is made afresh from it): nothing to
+// evaluate ahead.
+template <int Dim> void MpmMethod<Dim>::evaluate(std::int64_t /*step*/, double /*time*/) {}
+
+// One step of modified update-stress-last (Sulsky, Zhou & Schreyer 1995; Nairn 2003): the
+// stress of the state at t_n moves the grid, the particles follow the grid, and the stress is
+// updated last with the velocity gradient of the remapped grid velocities.
+template <int Dim> void MpmMethod<Dim>::advance(double dt, std::int64_t step, double time) {
+  if (!grid_) makeGrid();
+  stats_.phases.time(kExchange, [&] { exchangeHalo(); });
+  stats_.phases.time(kNeighbors, [&] { idOrder(); });
+  const auto P = particles();
+  stats_.phases.time(kForces, [&] { grid_->project(P, order_, dt); });
+  stats_.phases.time(kExchange, [&] { halo_.refresh(s_, velocityField_); });
+  const std::size_t n = s_.localCount();
+  std::span<Tensor<3>> L;
+  if (f_.hasStrength()) {
+    L = s_[f_.L].first(n);
+  } else {
+    L_.resize(n);
+    L = L_;
+  }
+  stats_.phases.time(kForces, [&] { grid_->velocityGradient(P, order_, L); });
+  stats_.phases.time(kIntegration, [&] { deform(dt); });
+  ++stats_.evaluations;
+  stats_.pairs += grid_->nodes();
+  stats_.phases.time(kExchange, [&] {
+    const auto m = decomposition_.migrate(s_, step);
+    stats_.migrated = m.moved;
+    stats_.migratedTotal += m.moved;
+    stats_.maxRankDistance = std::max(stats_.maxRankDistance, m.maxRankDistance);
+  });
+  const auto cost = s_[cost_];
+  for (std::size_t i = 0; i < s_.localCount(); ++i) cost[i] = 1; // every point costs the same
+  checkFinite(step + 1, time + dt);
+  if (mpi_.size() > 1) stats_.phases.time(kExchange, [&] { balance(step + 1, {}, {}); });
+}
+
+// Density and energy with the step's velocity gradient, then the materials: rho_{n+1} = rho_n /
+// det(I + dt L) (the volume follows F_{n+1} = (I + dt L) F_n), and de = dt sigma : D / rho with
+// sigma the mean of the stresses before and after the update (the trapezoidal rule, as SPH's
+// kick), rho at the step's middle.
+template <int Dim> void MpmMethod<Dim>::deform(double dt) {
+  const std::size_t n = s_.localCount();
+  const auto rho = s_[f_.rho];
+  const auto e = s_[f_.e];
+  const auto p = s_[f_.p];
+  const std::span<const Tensor<3>> L = f_.hasStrength()
+                                           ? std::span<const Tensor<3>>(s_[f_.L].first(n))
+                                           : std::span<const Tensor<3>>(L_);
+  std::vector<double> work(n), rhoMid(n); // sigma_n : D, and rho_{n+1/2}
+  const auto power = [&](std::size_t i) {
+    const Tensor<3> D = 0.5 * (L[i] + L[i].transpose());
+    double w = -p[i] * D.trace();
+    if (f_.hasStrength()) w += s_[f_.S][i].cwiseProduct(D).sum();
+    return w;
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    const Tensor<Dim> F = Tensor<Dim>::Identity() + dt * L[i].template topLeftCorner<Dim, Dim>();
+    const double rhoNew = rho[i] / F.determinant();
+    rhoMid[i] = 0.5 * (rho[i] + rhoNew);
+    work[i] = power(i);
+    rho[i] = rhoNew;
+    e[i] += dt * work[i] / rhoMid[i];
+  }
+  for (const auto& m : modules_) m->beforeMaterials(s_, f_, dt);
+  materials_.update(materialFields(), dt);
+  for (std::size_t i = 0; i < n; ++i) e[i] += 0.5 * dt * (power(i) - work[i]) / rhoMid[i];
+  materials_.evaluate(materialFields());
+}
+
+// The grid's stability limit: a wave or a point crosses a cell in no less than dt / cfl.
+template <int Dim> std::pair<double, std::size_t> MpmMethod<Dim>::localTimeStep() const {
+  const auto cs = s_[f_.cs];
+  const auto v = s_[f_.v];
+  double dt = std::numeric_limits<double>::infinity();
+  std::size_t which = 0;
+  const double hc = setup_.solver.mpm.cell_size;
+  for (std::size_t i = 0; i < s_.localCount(); ++i) {
+    const double d = setup_.solver.cfl * hc / (cs[i] + v[i].norm());
+    if (d < dt) dt = d, which = i;
+  }
+  return {dt, which};
+}
+
+// Ghosts: every point within the reach of an owned point's nodes' other points (per axis), so
+// that each node an owned point touches sums all of its points here.
+template <int Dim> void MpmMethod<Dim>::exchangeHalo() {
+  const std::size_t n = s_.localCount();
+  double lpMax = 0.0;
+  for (double lp : s_[f_.halfWidth].first(n)) lpMax = std::max(lpMax, lp);
+  const double R = grid_->haloReach(mpi_.max(lpMax));
+  reach_.assign(n, std::sqrt(static_cast<double>(Dim)) * R);
+  boxReach_.assign(n, Vec<Dim>::Constant(R));
+  halo_.build(s_, f_.x, reach_, std::span<const Vec<Dim>>(boxReach_), haloFields_);
+  stats_.ghosts = halo_.ghosts();
+  stats_.ghostFractionMax = std::max(
+      stats_.ghostFractionMax, mpi_.size() == 1 || n == 0
+                                   ? 0.0
+                                   : static_cast<double>(halo_.ghosts()) / static_cast<double>(n));
+}
+
+template <int Dim> void MpmMethod<Dim>::makeGrid() {
+  std::vector<solvers::GridWall<Dim>> walls;
+  for (const auto& b : setup_.boundaries) {
+    if (b.type != "rigid_wall") continue;
+    solvers::GridWall<Dim> w;
+    for (int a = 0; a < Dim; ++a) {
+      w.point[a] = b.point[static_cast<std::size_t>(a)];
+      w.normal[a] = b.normal[static_cast<std::size_t>(a)];
+    }
+    w.normal.normalize();
+    walls.push_back(w);
+  }
+  grid_ = solvers::makeMpmGrid<Dim>(setup_.solver.mpm, origin_, std::move(walls));
+}
+
+template <int Dim> solvers::MpmParticles<Dim> MpmMethod<Dim>::particles() {
+  const std::size_t rows = s_.localCount() + halo_.ghosts();
+  solvers::MpmParticles<Dim> P;
+  P.x = s_[f_.x].first(rows);
+  P.v = s_[f_.v].first(rows);
+  P.a = s_[f_.a].first(rows);
+  P.m = s_[f_.m].first(rows);
+  P.rho = s_[f_.rho].first(rows);
+  P.p = s_[f_.p].first(rows);
+  P.halfWidth = s_[f_.halfWidth].first(rows);
+  if (f_.hasStrength()) P.S = s_[f_.S].first(rows);
+  P.owned = s_.localCount();
+  return P;
+}
+
+// Owned and ghost rows by particle id: the order of every node's sums, the same on any rank.
+template <int Dim> void MpmMethod<Dim>::idOrder() {
+  const std::size_t rows = s_.localCount() + halo_.ghosts();
+  const auto id = s_[f_.id];
+  order_.resize(rows);
+  std::iota(order_.begin(), order_.end(), 0u);
+  std::sort(order_.begin(), order_.end(),
+            [&id](std::uint32_t a, std::uint32_t b) { return id[a] < id[b]; });
+}
+
+template <int Dim> void MpmMethod<Dim>::save(io::CheckpointState& st) const {
+  Base::save(st);
+  st.reals["mpm_grid_origin"] = std::vector<double>(origin_.data(), origin_.data() + Dim);
+}
+
+template <int Dim> void MpmMethod<Dim>::restore(const io::CheckpointState& st) {
+  Base::restore(st);
+  const auto& o = st.realArray("mpm_grid_origin");
+  for (int a = 0; a < Dim; ++a) origin_[a] = o.at(static_cast<std::size_t>(a));
+  makeGrid();
+}
+
+template class MpmMethod<1>;
+template class MpmMethod<2>;
+template class MpmMethod<3>;
+
+} // namespace spall::methods

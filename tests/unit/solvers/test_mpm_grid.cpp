@@ -1,0 +1,276 @@
+// The material point method's shape functions (solvers/MpmShapes.hpp) and transfers
+// (solvers/MpmGrid.hpp): partition of unity and linear completeness for the tent and uGIMP in
+// 1, 2 and 3 dimensions, at random places and exactly on nodes and cell faces (where GIMP's
+// piecewise branches meet); momentum conservation of a step; and the property the rank-count
+// independence rests on: an owned point's step is the same, bit for bit, whatever other points
+// the grid holds beyond its halo reach, in whatever row order.
+#include "spall/solvers/MpmGrid.hpp"
+#include "spall/solvers/MpmShapes.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <numeric>
+#include <random>
+
+using namespace spall;
+using namespace spall::solvers;
+
+namespace {
+
+// Sum S = 1, sum S X = x, sum grad S = 0, sum X (x) grad S = I: what a transfer needs to carry
+// a constant and a linear field exactly. Tolerances: sums of up to 27 terms of order 1 (and
+// positions of order 10 cells), so 1e-13 relative is a few ulps.
+template <MpmShape Shape, int Dim>
+void expectComplete(const Vec<Dim>& x, const Vec<Dim>& origin, double hc, double lp) {
+  const auto b = mpm::block<Shape, Dim>(x, origin, hc, lp);
+  double sum = 0.0;
+  Vec<Dim> first = Vec<Dim>::Zero(), grad = Vec<Dim>::Zero();
+  Tensor<Dim> moment = Tensor<Dim>::Zero();
+  for (int q = 0; q < mpm::kNodesPerParticle<Shape, Dim>; ++q) {
+    const auto k = mpm::blockOffset<Shape, Dim>(q);
+    Vec<Dim> X;
+    for (int a = 0; a < Dim; ++a)
+      X[a] = origin[a] + static_cast<double>(b.first[static_cast<std::size_t>(a)] +
+                                             k[static_cast<std::size_t>(a)]) *
+                             hc;
+    const double S = b.S[static_cast<std::size_t>(q)];
+    EXPECT_GE(S, 0.0);
+    sum += S;
+    first += S * X;
+    grad += b.grad[static_cast<std::size_t>(q)];
+    moment += X * b.grad[static_cast<std::size_t>(q)].transpose();
+  }
+  EXPECT_NEAR(sum, 1.0, 1e-13);
+  EXPECT_LT((first - x).norm(), 1e-13 * (x.norm() + hc));
+  EXPECT_LT(grad.norm(), 1e-13 / hc);
+  EXPECT_LT((moment - Tensor<Dim>::Identity()).norm(), 1e-12 * (1.0 + x.norm() / hc));
+}
+
+template <MpmShape Shape, int Dim> void checkShape(double lpOverHc) {
+  const double hc = 0.3;
+  const double lp = lpOverHc * hc;
+  Vec<Dim> origin;
+  for (int a = 0; a < Dim; ++a) origin[a] = -1.1 + 0.2 * a;
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-2.0, 3.0);
+  for (int t = 0; t < 200; ++t) {
+    Vec<Dim> x;
+    for (int a = 0; a < Dim; ++a) x[a] = u(rng);
+    expectComplete<Shape, Dim>(x, origin, hc, lp);
+  }
+  // On a node, on a cell face (half-way), and where GIMP's branches meet (lp and hc - lp
+  // from a node): the known places where GIMP implementations lose a node or count one twice.
+  for (double xi : {0.0, 0.5, 3.0, 3.5, -2.5, lpOverHc, 1.0 - lpOverHc, 2.0 + lpOverHc}) {
+    Vec<Dim> x;
+    for (int a = 0; a < Dim; ++a) x[a] = origin[a] + (xi + (a == 1 ? 0.25 : 0.0)) * hc;
+    expectComplete<Shape, Dim>(x, origin, hc, lp);
+  }
+}
+
+} // namespace
+
+TEST(MpmShapes, TentIsCompleteIn1D2D3D) {
+  checkShape<MpmShape::Linear, 1>(0.25);
+  checkShape<MpmShape::Linear, 2>(0.25);
+  checkShape<MpmShape::Linear, 3>(0.25);
+}
+
+TEST(MpmShapes, GimpIsCompleteIn1D2D3DUpToHalfACell) {
+  for (double r : {0.1, 0.25, 0.5}) {
+    checkShape<MpmShape::Gimp, 1>(r);
+    checkShape<MpmShape::Gimp, 2>(r);
+    checkShape<MpmShape::Gimp, 3>(r);
+  }
+}
+
+TEST(MpmShapes, GimpIsContinuousWithItsSlope) {
+  // C1 in d: no jump of S or S' where the branches meet (the tent's cell-crossing noise comes
+  // from its jump in S'). One-sided values 1e-9 cells apart agree to the slope times that.
+  const double hc = 1.0, lp = 0.25, eps = 1e-9;
+  for (double d : {lp, hc - lp, hc + lp, -lp, -(hc - lp)}) {
+    const auto a = mpm::gimp(d - eps, hc, lp), b = mpm::gimp(d + eps, hc, lp);
+    EXPECT_NEAR(a.S, b.S, 3.0 * eps) << d;
+    EXPECT_NEAR(a.dS, b.dS, 1e-8) << d;
+  }
+  // The derivative is the slope of S (central difference, exact for the quadratic pieces).
+  for (double d : {0.1, 0.4, 0.9, 1.1, -0.6}) {
+    const double h = 1e-6;
+    const double fd = (mpm::gimp(d + h, hc, lp).S - mpm::gimp(d - h, hc, lp).S) / (2.0 * h);
+    EXPECT_NEAR(mpm::gimp(d, hc, lp).dS, fd, 1e-8) << d;
+  }
+}
+
+namespace {
+
+// A 2D cloud of points with stress, in a box of 12 x 12 cells; `rows` lists which of them the
+// grid holds, the first `owned` of them this "rank's".
+struct Cloud {
+  std::vector<Vec<2>> x, v, a;
+  std::vector<double> m, rho, p, lp;
+  std::vector<Tensor<3>> S;
+  std::vector<std::uint64_t> id;
+};
+
+Cloud cloud(std::size_t n) {
+  Cloud c;
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    c.x.push_back(Vec<2>(1.0 + 10.0 * u(rng), 1.0 + 10.0 * u(rng)));
+    c.v.push_back(Vec<2>(u(rng) - 0.5, u(rng) - 0.5));
+    c.a.push_back(Vec<2>::Zero());
+    c.m.push_back(0.5 + u(rng));
+    c.rho.push_back(1.0 + 0.1 * u(rng));
+    c.p.push_back(u(rng) - 0.5);
+    c.lp.push_back(0.25);
+    Tensor<3> S = Tensor<3>::Zero();
+    S(0, 0) = u(rng) - 0.5;
+    S(1, 1) = u(rng) - 0.5;
+    S(2, 2) = -S(0, 0) - S(1, 1);
+    S(0, 1) = S(1, 0) = u(rng) - 0.5;
+    c.S.push_back(S);
+    c.id.push_back(1000 + 7 * i);
+  }
+  return c;
+}
+
+// One step on the listed rows (owned first); returns x, v and L of the owned rows.
+struct Result {
+  std::vector<Vec<2>> x, v;
+  std::vector<Tensor<3>> L;
+};
+
+Result step(const Cloud& all, const std::vector<std::size_t>& rows, std::size_t owned,
+            const MpmConfig& config) {
+  Cloud c;
+  for (std::size_t r : rows) {
+    c.x.push_back(all.x[r]);
+    c.v.push_back(all.v[r]);
+    c.a.push_back(all.a[r]);
+    c.m.push_back(all.m[r]);
+    c.rho.push_back(all.rho[r]);
+    c.p.push_back(all.p[r]);
+    c.lp.push_back(all.lp[r]);
+    c.S.push_back(all.S[r]);
+    c.id.push_back(all.id[r]);
+  }
+  std::vector<std::uint32_t> order(rows.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::sort(order.begin(), order.end(), [&](auto a, auto b) { return c.id[a] < c.id[b]; });
+  auto grid = makeMpmGrid<2>(config, Vec<2>(0.0, 0.0), {});
+  MpmParticles<2> P{c.x, c.v, c.a, c.m, c.rho, c.p, c.lp, c.S, owned};
+  grid->project(P, order, 0.01);
+  std::vector<Tensor<3>> L(owned);
+  grid->velocityGradient(P, order, L);
+  return {std::vector<Vec<2>>(c.x.begin(), c.x.begin() + static_cast<long>(owned)),
+          std::vector<Vec<2>>(c.v.begin(), c.v.begin() + static_cast<long>(owned)), L};
+}
+
+} // namespace
+
+TEST(MpmGrid, StepConservesMomentum) {
+  // Internal forces sum to zero over the nodes (sum_I grad S_I = 0 for every point), so FLIP's
+  // new momentum equals the old to round-off; PIC's too (sum_p S_Ip m_p = m_I). Tolerance: 1e-13
+  // of the sum of |m v| (round-off of ~10^4 terms).
+  const Cloud c = cloud(300);
+  std::vector<std::size_t> rows(c.x.size());
+  std::iota(rows.begin(), rows.end(), 0u);
+  Vec<2> before = Vec<2>::Zero();
+  double scale = 0.0;
+  for (std::size_t i = 0; i < c.x.size(); ++i) {
+    before += c.m[i] * c.v[i];
+    scale += c.m[i] * c.v[i].norm();
+  }
+  for (double flip : {1.0, 0.0, 0.95}) {
+    for (MpmShape shape : {MpmShape::Linear, MpmShape::Gimp}) {
+      const MpmConfig config{1.0, shape, flip, {}};
+      const Result r = step(c, rows, rows.size(), config);
+      Vec<2> after = Vec<2>::Zero();
+      for (std::size_t i = 0; i < c.x.size(); ++i) after += c.m[i] * r.v[i];
+      EXPECT_LT((after - before).norm(), 1e-13 * scale) << flip;
+    }
+  }
+}
+
+TEST(MpmGrid, AnOwnedPointsStepIgnoresEverythingBeyondTheHaloAndTheRowOrder) {
+  // "Rank" A owns the points with x < 6 and holds as ghosts those within the halo reach of them
+  // (per axis); the full grid holds all points, in another row order. A's owned points must
+  // step exactly as in the full grid: every node they touch sums the same points in id order.
+  // For the velocity gradient the ghosts' new velocities are those of the full step (what the
+  // halo refresh delivers).
+  const Cloud c = cloud(400);
+  for (MpmShape shape : {MpmShape::Linear, MpmShape::Gimp}) {
+    const MpmConfig config{1.0, shape, 1.0, {}};
+    const double reach = makeMpmGrid<2>(config, Vec<2>::Zero(), {})->haloReach(0.25);
+    std::vector<std::size_t> all(c.x.size());
+    std::iota(all.begin(), all.end(), 0u);
+    std::reverse(all.begin(), all.end());
+    const Result full = step(c, all, all.size(), config);
+    // Owned first, then ghosts within reach of any owned point, per axis.
+    std::vector<std::size_t> owned, ghosts;
+    for (std::size_t i = 0; i < c.x.size(); ++i)
+      if (c.x[i][0] < 6.0) owned.push_back(i);
+    for (std::size_t j = 0; j < c.x.size(); ++j) {
+      if (c.x[j][0] < 6.0) continue;
+      const bool near = std::any_of(owned.begin(), owned.end(), [&](std::size_t i) {
+        return (c.x[i] - c.x[j]).cwiseAbs().maxCoeff() < reach;
+      });
+      if (near) ghosts.push_back(j);
+    }
+    ASSERT_LT(owned.size() + ghosts.size(), c.x.size()); // the test leaves some points out
+    std::vector<std::size_t> rows = owned;
+    rows.insert(rows.end(), ghosts.begin(), ghosts.end());
+    // Project on A alone, then give the ghosts the full step's velocities and take L.
+    std::vector<Vec<2>> x, v, a;
+    std::vector<double> m, rho, p, lp;
+    std::vector<Tensor<3>> S;
+    std::vector<std::uint64_t> id;
+    for (std::size_t r : rows) {
+      x.push_back(c.x[r]);
+      v.push_back(c.v[r]);
+      a.push_back(c.a[r]);
+      m.push_back(c.m[r]);
+      rho.push_back(c.rho[r]);
+      p.push_back(c.p[r]);
+      lp.push_back(c.lp[r]);
+      S.push_back(c.S[r]);
+      id.push_back(c.id[r]);
+    }
+    std::vector<std::uint32_t> order(rows.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(), [&](auto i, auto j) { return id[i] < id[j]; });
+    auto grid = makeMpmGrid<2>(config, Vec<2>::Zero(), {});
+    MpmParticles<2> P{x, v, a, m, rho, p, lp, S, owned.size()};
+    grid->project(P, order, 0.01);
+    for (std::size_t k = 0; k < owned.size(); ++k) {
+      const std::size_t fullRow = c.x.size() - 1 - owned[k]; // `all` is reversed
+      EXPECT_EQ(x[k], full.x[fullRow]) << k;
+      EXPECT_EQ(v[k], full.v[fullRow]) << k;
+    }
+    for (std::size_t k = owned.size(); k < rows.size(); ++k)
+      v[k] = full.v[c.x.size() - 1 - rows[k]];
+    std::vector<Tensor<3>> L(owned.size());
+    grid->velocityGradient(P, order, L);
+    for (std::size_t k = 0; k < owned.size(); ++k)
+      EXPECT_EQ(L[k], full.L[c.x.size() - 1 - owned[k]]) << k;
+  }
+}
+
+TEST(MpmGrid, WallNodesKeepNoNormalVelocity) {
+  // 1D, cells of 1, a wall at x = 0 (node 0): three points moving at -1 toward it, PIC. The
+  // point on the wall node weighs nodes -1, 0, 1 with 1/16, 7/8, 1/16 (GIMP, lp = 1/4); the first
+  // two are on or behind the wall and keep v = 0, so its new velocity is 1/16 of node 1's, which
+  // is between -1 and 0: |v| <= 1/16, and it moves at most dt/16.
+  std::vector<Vec<1>> x{Vec<1>(0.0), Vec<1>(0.25), Vec<1>(0.75)};
+  std::vector<Vec<1>> v(3, Vec<1>(-1.0)), a(3, Vec<1>::Zero());
+  std::vector<double> m(3, 1.0), rho(3, 1.0), p(3, 0.0), lp(3, 0.25);
+  std::vector<std::uint32_t> order{0, 1, 2};
+  const MpmConfig config{1.0, MpmShape::Gimp, 0.0, {}};
+  auto grid = makeMpmGrid<1>(config, Vec<1>::Zero(), {GridWall<1>{Vec<1>(0.0), Vec<1>(1.0)}});
+  MpmParticles<1> P{x, v, a, m, rho, p, lp, {}, 3};
+  grid->project(P, order, 0.01);
+  EXPECT_LT(v[0][0], 0.0);
+  EXPECT_GE(v[0][0], -1.0 / 16.0 - 1e-15);
+  EXPECT_GE(x[0][0], -0.01 / 16.0 - 1e-15);
+}
