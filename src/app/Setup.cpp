@@ -178,7 +178,9 @@ std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck
   std::vector<std::unique_ptr<methods::Module<Dim>>> list;
   const bool mpm = solver.method == "mpm"; // no pair loop: no viscosity, correction, contact
   list.push_back(std::make_unique<methods::Hydro<Dim>>());
-  if (mpm) list.push_back(std::make_unique<methods::MaterialPoints<Dim>>());
+  if (mpm)
+    list.push_back(
+        std::make_unique<methods::MaterialPoints<Dim>>(deck.run.geometry == Geometry::RZ));
   if (solver.artificial_viscosity.balsara && !mpm)
     list.push_back(std::make_unique<methods::BalsaraSwitch<Dim>>());
   if (solids)
@@ -235,13 +237,14 @@ std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck
   return list;
 }
 
-methods::SphSetup sphSetup(const Deck& deck) {
-  methods::SphSetup s;
+methods::MethodSetup methodSetup(const Deck& deck) {
+  methods::MethodSetup s;
   s.solver = deck.solver;
   s.boundaries = deck.boundaries;
   if (deck.run.geometry == Geometry::RZ) {
-    // The axis: a mirror that folds (solvers/Config.hpp), first, so that the other walls image
-    // its images (the corner where a Taylor bar's axis meets its wall).
+    // The axis: for SPH a mirror that folds (solvers/Config.hpp), first, so that the other walls
+    // image its images (the corner where a Taylor bar's axis meets its wall); for MPM a node
+    // plane whose nodes keep no radial velocity.
     BoundaryConfig axis;
     axis.type = "rigid_wall";
     axis.point = {0.0, 0.0};
@@ -251,14 +254,7 @@ methods::SphSetup sphSetup(const Deck& deck) {
   }
   s.reproducible = deck.decomposition.reproducible;
   s.imbalanceThreshold = deck.decomposition.imbalance_threshold;
-  return s;
-}
-
-methods::MpmSetup mpmSetup(const Deck& deck) {
-  methods::MpmSetup s;
-  s.solver = deck.solver;
-  s.boundaries = deck.boundaries;
-  s.imbalanceThreshold = deck.decomposition.imbalance_threshold;
+  if (deck.solver.method != "mpm") return s;
   double finest = std::numeric_limits<double>::infinity(), coarsest = 0.0;
   for (const auto& b : deck.bodies) {
     finest = std::min(finest, b.spacing / deck.run.resolution);
@@ -280,7 +276,7 @@ methods::MpmSetup mpmSetup(const Deck& deck) {
 std::string methodSummary(const Deck& deck) {
   const auto& s = deck.solver;
   if (s.method == "mpm") {
-    const auto m = mpmSetup(deck).solver.mpm;
+    const auto m = methodSetup(deck).solver.mpm;
     return fmt::format("mpm {} cell {:.4g} m flip {:g}",
                        m.shape == MpmShape::Linear ? "linear" : "gimp", m.cell_size, m.flip);
   }

@@ -41,22 +41,19 @@ Simulation<Dim>::Simulation(const Deck& deck, const parallel::MpiContext& mpi)
   dc.imbalanceThreshold = deck.decomposition.imbalance_threshold;
   decomposition_ =
       std::make_unique<parallel::Decomposition<Dim>>(mpi.comm(), dc, f_.id, f_.x, cost_);
-  const auto note = [this](const std::string& line) {
+  methods::MethodSetup setup = methodSetup(deck);
+  setup.note = [this](const std::string& line) {
     if (log_) log_->note(line);
   };
-  if (deck.solver.method == "mpm") {
-    methods::MpmSetup setup = mpmSetup(deck);
-    setup.note = note;
-    method_ = std::make_unique<methods::MpmMethod<Dim>>(
-        mpi, std::move(setup), materials::MaterialUpdate(materials_, deck_.run.seed),
-        std::move(modules), store_, f_, cost_, *decomposition_);
-  } else {
-    methods::SphSetup setup = sphSetup(deck);
-    setup.note = note;
-    method_ = std::make_unique<methods::SphMethod<Dim>>(
-        mpi, std::move(setup), materials::MaterialUpdate(materials_, deck_.run.seed),
-        std::move(modules), store_, f_, cost_, *decomposition_);
-  }
+  materials::MaterialUpdate update(materials_, deck_.run.seed);
+  if (deck.solver.method == "mpm")
+    method_ = std::make_unique<methods::MpmMethod<Dim>>(mpi, std::move(setup), std::move(update),
+                                                        std::move(modules), store_, f_, cost_,
+                                                        *decomposition_);
+  else
+    method_ = std::make_unique<methods::SphMethod<Dim>>(mpi, std::move(setup), std::move(update),
+                                                        std::move(modules), store_, f_, cost_,
+                                                        *decomposition_);
   probes_ = std::make_unique<diagnostics::Probes<Dim>>(deck.probes, store_,
                                                        deck.run.geometry == Geometry::RZ);
   if (const auto& pc = deck.penetration) {

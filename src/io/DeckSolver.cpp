@@ -117,7 +117,6 @@ void checkMpmScope(const Deck& deck) {
   const auto fail = [](const SourceLocation& where, const std::string& what) {
     throw DeckError(where, what + " is not available with solver.method = \"mpm\" yet");
   };
-  if (deck.run.geometry == Geometry::RZ) fail(deck.solver.where, "run.geometry = \"rz\"");
   if (deck.decomposition.partitioner == "metis")
     fail(deck.solver.where, "decomposition.partitioner = \"metis\" (a graph of neighbor pairs)");
   if (deck.solver.contact == Contact::Frictionless)

@@ -7,23 +7,13 @@
 
 namespace spall::methods {
 
-namespace {
-ParticleMethodSetup commonSetup(const MpmSetup& s) {
-  ParticleMethodSetup c;
-  c.imbalanceThreshold = s.imbalanceThreshold;
-  c.nodesPerH = s.solver.nodes_per_h;
-  c.note = s.note;
-  return c;
-}
-} // namespace
-
 template <int Dim>
-MpmMethod<Dim>::MpmMethod(const parallel::MpiContext& mpi, MpmSetup setup,
+MpmMethod<Dim>::MpmMethod(const parallel::MpiContext& mpi, MethodSetup setup,
                           materials::MaterialUpdate materials,
                           std::vector<std::unique_ptr<Module<Dim>>> modules, ParticleStore& store,
                           const ParticleFields<Dim>& f, Field<std::int32_t> cost,
                           parallel::Decomposition<Dim>& decomposition)
-    : ParticleMethod<Dim>(mpi, commonSetup(setup), std::move(materials), std::move(modules), store,
+    : ParticleMethod<Dim>(mpi, sharedSetup(setup), std::move(materials), std::move(modules), store,
                           f, cost, decomposition),
       setup_(std::move(setup)) {
   haloFields_ = store.columnsWith(kHalo);
@@ -31,8 +21,8 @@ MpmMethod<Dim>::MpmMethod(const parallel::MpiContext& mpi, MpmSetup setup,
 }
 
 // t = 0 (or a body joining): the modules' initial values (the points' half-widths among them),
-// p and cs; at t = 0 also the grid's origin, the lowest corner of all the points' boxes, so that
-// a body's face (and a wall it stands on) lies on a grid plane.
+// p and cs; at t = 0 also the grid's origin: on each axis a wall's plane if a wall is normal to
+// it, else the lowest corner of all the points' boxes, so that a body's face lies on a grid plane.
 template <int Dim> void MpmMethod<Dim>::start(const RunStart& run) {
   for (const auto& m : modules_) m->initialise(s_, f_, run);
   materials_.evaluate(materialFields());
@@ -49,6 +39,19 @@ template <int Dim> void MpmMethod<Dim>::start(const RunStart& run) {
     for (int a = 0; a < Dim; ++a)
       origin_[a] =
           std::isfinite(lo[static_cast<std::size_t>(a)]) ? lo[static_cast<std::size_t>(a)] : 0.0;
+    // A wall along a grid axis lies on a node plane, where its constraint acts (the rz axis
+    // among them); the first such wall of each axis sets that axis's origin.
+    std::array<bool, Dim> aligned{};
+    for (const auto& b : setup_.boundaries) {
+      if (b.type != "rigid_wall") continue;
+      for (int a = 0; a < Dim; ++a) {
+        const auto sa = static_cast<std::size_t>(a);
+        bool alongA = b.normal[sa] != 0.0;
+        for (int c = 0; c < Dim; ++c)
+          alongA = alongA && (c == a || b.normal[static_cast<std::size_t>(c)] == 0.0);
+        if (alongA && !aligned[sa]) origin_[a] = b.point[sa], aligned[sa] = true;
+      }
+    }
   }
   makeGrid();
 }
@@ -92,9 +95,10 @@ template <int Dim> void MpmMethod<Dim>::advance(double dt, std::int64_t step, do
 }
 
 // Density and energy with the step's velocity gradient, then the materials: rho_{n+1} = rho_n /
-// det(I + dt L) (the volume follows F_{n+1} = (I + dt L) F_n), and de = dt sigma : D / rho with
-// sigma the mean of the stresses before and after the update (the trapezoidal rule, as SPH's
-// kick), rho at the step's middle.
+// det(I + dt L) (3 x 3: in plane strain its third row is 0, in rz it holds v_r / r) (the volume
+// follows F_{n+1} = (I + dt L) F_n), and de = dt sigma : D / rho with sigma the mean of the
+// stresses before and after the update (the trapezoidal rule, as SPH's kick), rho at the step's
+// middle.
 template <int Dim> void MpmMethod<Dim>::deform(double dt) {
   const std::size_t n = s_.localCount();
   const auto rho = s_[f_.rho];
@@ -111,7 +115,8 @@ template <int Dim> void MpmMethod<Dim>::deform(double dt) {
     return w;
   };
   for (std::size_t i = 0; i < n; ++i) {
-    const Tensor<Dim> F = Tensor<Dim>::Identity() + dt * L[i].template topLeftCorner<Dim, Dim>();
+    // The whole 3 x 3 increment: in rz the hoop rate L_tt changes a ring's volume too.
+    const Tensor<3> F = Tensor<3>::Identity() + dt * L[i];
     const double rhoNew = rho[i] / F.determinant();
     rhoMid[i] = 0.5 * (rho[i] + rhoNew);
     work[i] = power(i);
@@ -167,7 +172,8 @@ template <int Dim> void MpmMethod<Dim>::makeGrid() {
     w.normal.normalize();
     walls.push_back(w);
   }
-  grid_ = solvers::makeMpmGrid<Dim>(setup_.solver.mpm, origin_, std::move(walls));
+  grid_ = solvers::makeMpmGrid<Dim>(setup_.solver.mpm, origin_, std::move(walls),
+                                    setup_.solver.geometry == Geometry::RZ);
 }
 
 template <int Dim> solvers::MpmParticles<Dim> MpmMethod<Dim>::particles() {

@@ -10,6 +10,16 @@
 
 namespace spall::methods {
 
+ParticleMethodSetup sharedSetup(const MethodSetup& s) {
+  ParticleMethodSetup c;
+  for (const auto& b : s.boundaries)
+    if (b.type == "periodic") c.periodic.push_back({b.axis, b.min, b.max});
+  c.imbalanceThreshold = s.imbalanceThreshold;
+  c.nodesPerH = s.solver.nodes_per_h;
+  c.note = s.note;
+  return c;
+}
+
 template <int Dim>
 ParticleMethod<Dim>::ParticleMethod(const parallel::MpiContext& mpi, ParticleMethodSetup setup,
                                     materials::MaterialUpdate materials,

@@ -10,25 +10,13 @@
 
 namespace spall::methods {
 
-namespace {
-ParticleMethodSetup commonSetup(const SphSetup& s) {
-  ParticleMethodSetup c;
-  for (const auto& b : s.boundaries)
-    if (b.type == "periodic") c.periodic.push_back({b.axis, b.min, b.max});
-  c.imbalanceThreshold = s.imbalanceThreshold;
-  c.nodesPerH = s.solver.nodes_per_h;
-  c.note = s.note;
-  return c;
-}
-} // namespace
-
 template <int Dim>
-SphMethod<Dim>::SphMethod(const parallel::MpiContext& mpi, SphSetup setup,
+SphMethod<Dim>::SphMethod(const parallel::MpiContext& mpi, MethodSetup setup,
                           materials::MaterialUpdate materials,
                           std::vector<std::unique_ptr<Module<Dim>>> modules, ParticleStore& store,
                           const ParticleFields<Dim>& f, Field<std::int32_t> cost,
                           parallel::Decomposition<Dim>& decomposition)
-    : ParticleMethod<Dim>(mpi, commonSetup(setup), std::move(materials), std::move(modules), store,
+    : ParticleMethod<Dim>(mpi, sharedSetup(setup), std::move(materials), std::move(modules), store,
                           f, cost, decomposition),
       setup_(std::move(setup)), boundaries_(setup_.boundaries, store, f) {
   std::vector<bool> solid, failedNoTension;

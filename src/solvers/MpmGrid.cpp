@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace spall::solvers {
 
@@ -13,8 +14,8 @@ template <int Dim, MpmShape Shape> class Grid final : public MpmGrid<Dim> {
   using Key = std::array<std::int64_t, Dim>;
 
 public:
-  Grid(const MpmConfig& c, const Vec<Dim>& origin, std::vector<GridWall<Dim>> walls)
-      : c_(c), origin_(origin), walls_(std::move(walls)) {}
+  Grid(const MpmConfig& c, const Vec<Dim>& origin, std::vector<GridWall<Dim>> walls, bool rz)
+      : c_(c), origin_(origin), walls_(std::move(walls)), rz_(rz) {}
 
   double haloReach(double lpMax) const override {
     return Shape == MpmShape::Linear ? 2.0 * c_.cell_size : 2.0 * (c_.cell_size + lpMax);
@@ -35,12 +36,16 @@ public:
       if (solid) sigma += P.S[r].template topLeftCorner<Dim, Dim>();
       const double V = P.m[r] / P.rho[r];
       const Vec<Dim> mv = P.m[r] * P.v[r];
+      // rz: the hoop stress's share of the radial force, sigma_tt S / r (the weak form's
+      // 2 pi r dA is in the ring's mass and volume).
+      Vec<Dim> hoop = Vec<Dim>::Zero();
+      if (rz_) hoop[0] = ((solid ? P.S[r](2, 2) : 0.0) - P.p[r]) / P.x[r][0];
       for (int q = 0; q < K; ++q) {
         const std::size_t e = r * K + static_cast<std::size_t>(q);
         const std::uint32_t I = node_[e];
         mass_[I] += S_[e] * P.m[r];
         momentum_[I] += S_[e] * mv;
-        force_[I] -= V * (sigma * grad_[e]);
+        force_[I] -= V * (sigma * grad_[e] + S_[e] * hoop);
       }
     }
     // The grid's velocities before and after the step's forces; walls take the normal part of
@@ -68,6 +73,12 @@ public:
       P.x[r] += dt * vPic;
       P.a[r] = dv / dt;
       P.v[r] = flip * (P.v[r] + dv) + (1.0 - flip) * vPic;
+      // rz: the axis nodes keep v_r = 0, but a point's box reaches past them; one that would
+      // cross the axis is folded back, as SPH's rings are.
+      if (rz_ && P.x[r][0] < 0.0) {
+        P.x[r][0] = -P.x[r][0];
+        P.v[r][0] = -P.v[r][0];
+      }
     }
   }
 
@@ -88,12 +99,15 @@ public:
     }
     for (std::size_t r = 0; r < P.owned; ++r) {
       Tensor<Dim> l = Tensor<Dim>::Zero();
+      double vr = 0.0; // rz: the point's radial velocity, for the hoop rate v_r / r
       for (int q = 0; q < K; ++q) {
         const std::size_t e = r * K + static_cast<std::size_t>(q);
         l += velocity_[node_[e]] * grad_[e].transpose();
+        vr += S_[e] * velocity_[node_[e]][0];
       }
       L[r].setZero();
       L[r].template topLeftCorner<Dim, Dim>() = l;
+      if (rz_) L[r](2, 2) = vr / P.x[r][0];
     }
   }
 
@@ -188,6 +202,7 @@ private:
   MpmConfig c_;
   Vec<Dim> origin_;
   std::vector<GridWall<Dim>> walls_;
+  bool rz_; // axisymmetric: x = r, y = z, the points rings
   // Per row and block entry (row r, entry q at r K + q): the node's number, S and grad S.
   std::vector<std::uint32_t> node_;
   std::vector<double> S_;
@@ -203,17 +218,20 @@ private:
 
 template <int Dim>
 std::unique_ptr<MpmGrid<Dim>> makeMpmGrid(const MpmConfig& config, const Vec<Dim>& origin,
-                                          std::vector<GridWall<Dim>> walls) {
+                                          std::vector<GridWall<Dim>> walls, bool axisymmetric) {
+  if (axisymmetric && Dim != 2) throw std::logic_error("axisymmetric MPM needs dimension 2");
   if (config.shape == MpmShape::Linear)
-    return std::make_unique<Grid<Dim, MpmShape::Linear>>(config, origin, std::move(walls));
-  return std::make_unique<Grid<Dim, MpmShape::Gimp>>(config, origin, std::move(walls));
+    return std::make_unique<Grid<Dim, MpmShape::Linear>>(config, origin, std::move(walls),
+                                                         axisymmetric);
+  return std::make_unique<Grid<Dim, MpmShape::Gimp>>(config, origin, std::move(walls),
+                                                     axisymmetric);
 }
 
 template std::unique_ptr<MpmGrid<1>> makeMpmGrid<1>(const MpmConfig&, const Vec<1>&,
-                                                    std::vector<GridWall<1>>);
+                                                    std::vector<GridWall<1>>, bool);
 template std::unique_ptr<MpmGrid<2>> makeMpmGrid<2>(const MpmConfig&, const Vec<2>&,
-                                                    std::vector<GridWall<2>>);
+                                                    std::vector<GridWall<2>>, bool);
 template std::unique_ptr<MpmGrid<3>> makeMpmGrid<3>(const MpmConfig&, const Vec<3>&,
-                                                    std::vector<GridWall<3>>);
+                                                    std::vector<GridWall<3>>, bool);
 
 } // namespace spall::solvers

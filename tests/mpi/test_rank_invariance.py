@@ -94,7 +94,9 @@ CASES = [("sod_1d.toml", []), ("rod_impact_copper.toml", ["run.end_time=6e-6"]),
          # a wall node, 2D through the disks' impact, 3D with Johnson-Cook against the wall
          ("vibrating_bar_mpm_1d.toml", ["run.end_time=10"]),
          ("two_disks_mpm_2d.toml", []),
-         ("taylor_bar_3d.toml", ["run.resolution=0.4", "run.max_steps=40", "solver.method=mpm"])]
+         ("taylor_bar_3d.toml", ["run.resolution=0.4", "run.max_steps=40", "solver.method=mpm"]),
+         # ... and in rz: the axis a constrained node plane, the hoop terms
+         ("taylor_bar_4340_rz.toml", ["run.end_time=2e-5", "solver.method=mpm"])]
 
 with tempfile.TemporaryDirectory() as tmp:
     tmp = Path(tmp)

@@ -112,10 +112,24 @@ fields = ["position_x", "stress_hoop"]
 """
 
 
-def elastic(tmp, label, tolerance, *sets):
-    out = tmp / f"elastic_{label}"
-    if not run(ELASTIC, out, *sets):
-        return
+# MPM takes no periodic boundary: slip walls at both ends hold v_z = 0 just as well.
+ELASTIC_WALLS = ELASTIC.replace("""[[boundary]]
+type = "periodic"
+axis = 1
+min = 0.0
+max = 0.004""", """[[boundary]]
+type = "rigid_wall"
+point = [0.0, 0.0]
+normal = [0.0, 1.0]
+[[boundary]]
+type = "rigid_wall"
+point = [0.0, 0.004]
+normal = [0.0, -1.0]""")
+
+
+def stretch_state(out):
+    """The last snapshot of a stretched-cylinder run: radii, the interior mask and each checked
+    field's values beside its exact value."""
     alpha, K, G, rho0, R = 100.0, 70.0e9, 26.0e9, 2700.0, 20.0e-3
     with h5py.File(last_snapshot(out)) as f:
         t = float(f.attrs["time"])
@@ -133,13 +147,21 @@ def elastic(tmp, label, tolerance, *sets):
     exact = {"density": (rho, rho0 / stretch ** 2), "sigma_rr": (sigma[:, 0, 0], Srr - p),
              "sigma_zz": (sigma[:, 1, 1], -2.0 * Srr - p), "sigma_tt": (hoop, Srr - p),
              "v_r/r": (v[:, 0] / x[:, 0], alpha / stretch)}
+    return x[:, 0], inside, exact, Srr - p
+
+
+def elastic(tmp, label, tolerance, *sets):
+    out = tmp / f"elastic_{label}"
+    if not run(ELASTIC, out, *sets):
+        return
+    _, inside, exact, sigma_tt = stretch_state(out)
     for name, (got, want) in exact.items():
         err = float(np.max(np.abs(got[inside] - want))) / abs(want)
         check(err < tolerance, f"uniform radial stretch ({label}): {name} within {tolerance:g} of "
                                f"exact in {inside.sum()} interior rings, axis included ({err:.1e})")
     probes = np.genfromtxt(out / "probes.csv", delimiter=",", names=True, dtype=None, encoding=None)
     last = probes[probes["time"] == probes["time"].max()]
-    for field, want, tol in (("position_x", 2.5e-3, 1e-3), ("stress_hoop", Srr - p, tolerance)):
+    for field, want, tol in (("position_x", 2.5e-3, 1e-3), ("stress_hoop", sigma_tt, tolerance)):
         got = float(last["value"][last["field"] == field][0])
         err = abs(got / want - 1.0)
         check(err < tol, f"uniform radial stretch ({label}): space probe {field} within {tol:g} "
@@ -200,19 +222,45 @@ fields = ["velocity"]
 """
 
 
-def rods(tmp):
-    out = tmp / "rods"
-    if not run(RODS, out, ranks=2):
+def mpm_stretch(tmp):
+    """The uniform radial stretch with MPM (walls at both ends for the periodic boundary)."""
+    out = tmp / "elastic_mpm"
+    if not run(ELASTIC_WALLS, out, 'solver.method="mpm"'):
+        return
+    r, inside, exact, _ = stretch_state(out)
+    for name, tol in (("density", 1e-4), ("sigma_rr", 1e-2), ("sigma_zz", 1e-2), ("sigma_tt", 1e-2)):
+        got, want = exact[name]
+        err = float(np.max(np.abs(got[inside] - want))) / abs(want)
+        check(err < tol, f"uniform radial stretch (MPM): {name} within {tol:g} of exact in "
+                         f"{inside.sum()} interior rings, axis included ({err:.1e})")
+    # The points' own (FLIP) velocities: within 3% beyond two cells from the axis (measured 2.0%);
+    # within the first cell they oscillate about the exact value by up to half of it (6 mm/s
+    # against the rim's 2 m/s): ring masses bias the node velocities near the axis, a known
+    # weakness of Cartesian shape functions in axisymmetric MPM (decks/README.md).
+    got, want = exact["v_r/r"]
+    err = np.abs(got / want - 1.0)
+    far = inside & (r > 2 * 0.5e-3)
+    check(float(err[far].max()) < 0.03, f"uniform radial stretch (MPM): v_r/r within 3% beyond two "
+                                        f"cells from the axis ({float(err[far].max()):.1e})")
+    print(f"     MPM: v_r/r of the rings within one cell of the axis off by "
+          f"{float(err[inside & (r < 0.5e-3)].max()):.2f}")
+
+
+def rods(tmp, *sets, energy=1e-4):
+    label = " (MPM)" if sets else ""
+    out = tmp / f"rods{len(sets)}"
+    if not run(RODS, out, *sets, ranks=2):
         return
     h = np.genfromtxt(out / "history.csv", delimiter=",", names=True)
     pz, E = h["momentum_y"], h["total_energy"]
     dp = float(np.max(np.abs(pz - pz[0]))) / abs(pz[0])
     dE = float(np.max(np.abs(E - E[0]))) / E[0]
-    check(dp < 1e-12, f"rod impact (rz): momentum along z conserved to round-off ({dp:.1e})")
-    check(dE < 1e-4, f"rod impact (rz): total energy within 1e-4 ({dE:.1e})")
+    check(dp < 1e-12, f"rod impact (rz){label}: momentum along z conserved to round-off ({dp:.1e})")
+    check(dE < energy, f"rod impact (rz){label}: total energy within {energy:g} ({dE:.1e})")
     lowest = min(float(h5py.File(f)["particles/position"][:, 0].min())
                  for f in (out / "snapshots").glob("snap_*.h5"))
-    check(lowest > 0.0, f"rod impact (rz): no ring at r < 0 in any snapshot (lowest r {lowest:.2e} m)")
+    check(lowest > 0.0,
+          f"rod impact (rz){label}: no ring at r < 0 in any snapshot (lowest r {lowest:.2e} m)")
 
 
 def taylor(tmp):
@@ -243,5 +291,9 @@ with tempfile.TemporaryDirectory() as tmp:
     dust(tmp, "continuity")
     dust(tmp, "summation")
     rods(tmp)
+    mpm_stretch(tmp)
+    # MPM conserves momentum to round-off too; its energy to truncation error (measured 1.8e-3,
+    # no viscosity at the 600 m/s impact's shocks).
+    rods(tmp, 'solver.method="mpm"', energy=1e-2)
     taylor(tmp)
 sys.exit(1 if failures else 0)

@@ -3,9 +3,9 @@
 // configuration. The one place that reads the deck's physics tables.
 #include "spall/io/Deck.hpp"
 #include "spall/materials/MaterialUpdate.hpp"
+#include "spall/methods/MethodSetup.hpp"
 #include "spall/methods/Module.hpp"
 #include "spall/methods/MpmMethod.hpp"
-#include "spall/methods/SphSetup.hpp"
 
 #include <memory>
 #include <string>
@@ -21,10 +21,9 @@ std::vector<materials::Material> buildMaterials(const Deck& deck);
 template <int Dim>
 std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck);
 
-methods::SphSetup sphSetup(const Deck& deck);
-// solver.method = "mpm": the cell size resolved (twice the finest body spacing when not given,
-// both after run.resolution).
-methods::MpmSetup mpmSetup(const Deck& deck);
+// The method's configuration: the rz axis first among the boundaries; for MPM the cell size
+// resolved (twice the finest body spacing when not given, both after run.resolution).
+methods::MethodSetup methodSetup(const Deck& deck);
 
 // The method and its main settings, for the banner and `spall check`: "sph cubic_spline n_h 1.5 |
 // density continuity", "mpm gimp cell 0.05 m flip 1".

@@ -12,16 +12,9 @@
 
 namespace spall::methods {
 
-struct MpmSetup {
-  SolverConfig solver;                    // its `mpm` table: cell size (resolved), shape, flip
-  std::vector<BoundaryConfig> boundaries; // rigid walls become grid constraints
-  double imbalanceThreshold = 1.1;
-  std::function<void(const std::string&)> note;
-};
-
 template <int Dim> class MpmMethod final : public ParticleMethod<Dim> {
 public:
-  MpmMethod(const parallel::MpiContext& mpi, MpmSetup setup, materials::MaterialUpdate materials,
+  MpmMethod(const parallel::MpiContext& mpi, MethodSetup setup, materials::MaterialUpdate materials,
             std::vector<std::unique_ptr<Module<Dim>>> modules, ParticleStore& store,
             const ParticleFields<Dim>& f, Field<std::int32_t> cost,
             parallel::Decomposition<Dim>& decomposition);
@@ -48,7 +41,7 @@ private:
   void idOrder();
   void deform(double dt);
 
-  MpmSetup setup_;
+  MethodSetup setup_;
   Vec<Dim> origin_ = Vec<Dim>::Zero(); // the grid's node 0: set at t = 0, checkpointed
   std::unique_ptr<solvers::MpmGrid<Dim>> grid_;
   std::vector<std::size_t> haloFields_, velocityField_;

@@ -8,6 +8,7 @@
 #include "spall/core/ParticleFields.hpp"
 #include "spall/materials/MaterialUpdate.hpp"
 #include "spall/methods/Method.hpp"
+#include "spall/methods/MethodSetup.hpp"
 #include "spall/methods/Module.hpp"
 #include "spall/neighbors/NeighborList.hpp"
 #include "spall/parallel/Decomposition.hpp"
@@ -30,6 +31,8 @@ struct ParticleMethodSetup {
   double nodesPerH = 1.5;                       // h per particle spacing (fragments' link length)
   std::function<void(const std::string&)> note; // a line for the run log (may be empty)
 };
+// The shared part of a method's setup: periodic axes from the boundaries, h per spacing.
+ParticleMethodSetup sharedSetup(const MethodSetup& s);
 
 template <int Dim> class ParticleMethod : public Method<Dim> {
 public:

@@ -8,9 +8,9 @@
 #include "spall/core/ParticleFields.hpp"
 #include "spall/materials/MaterialUpdate.hpp"
 #include "spall/methods/Method.hpp"
+#include "spall/methods/MethodSetup.hpp"
 #include "spall/methods/Module.hpp"
 #include "spall/methods/ParticleMethod.hpp"
-#include "spall/methods/SphSetup.hpp"
 #include "spall/neighbors/NeighborList.hpp"
 #include "spall/parallel/Decomposition.hpp"
 #include "spall/parallel/HaloExchange.hpp"
@@ -28,7 +28,7 @@ namespace spall::methods {
 template <int Dim> class SphMethod final : public ParticleMethod<Dim> {
 public:
   // The store's fields are registered (by `modules`) before the method is made.
-  SphMethod(const parallel::MpiContext& mpi, SphSetup setup, materials::MaterialUpdate materials,
+  SphMethod(const parallel::MpiContext& mpi, MethodSetup setup, materials::MaterialUpdate materials,
             std::vector<std::unique_ptr<Module<Dim>>> modules, ParticleStore& store,
             const ParticleFields<Dim>& f, Field<std::int32_t> cost,
             parallel::Decomposition<Dim>& decomposition);
@@ -58,7 +58,7 @@ private:
   void forces(double time);
   double canonicalH() const;
 
-  SphSetup setup_;
+  MethodSetup setup_;
   std::unique_ptr<solvers::Solver<Dim>> solver_;
   solvers::Boundaries<Dim> boundaries_;
   // Derived from the field flags: what ghosts receive when made, and again after the density

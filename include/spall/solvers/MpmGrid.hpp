@@ -60,8 +60,12 @@ public:
   virtual double haloReach(double lpMax) const = 0;
 };
 
+// axisymmetric (rz, Dim 2): x = r, the points are rings (mass and volume 2 pi r times their
+// area's), the hoop stress adds sigma_tt S / r to the radial force and v_r / r is L_tt (Sulsky &
+// Schreyer 1996).
 template <int Dim>
 std::unique_ptr<MpmGrid<Dim>> makeMpmGrid(const MpmConfig& config, const Vec<Dim>& origin,
-                                          std::vector<GridWall<Dim>> walls);
+                                          std::vector<GridWall<Dim>> walls,
+                                          bool axisymmetric = false);
 
 } // namespace spall::solvers

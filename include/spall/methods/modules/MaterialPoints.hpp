@@ -1,15 +1,18 @@
 #pragma once
-// The material point method's particle: a box of half-width l_p = (V_0)^(1/dim) / 2 around it,
-// its volume V_0 = m / rho at its start (the body's spacing on a cubic lattice), over which its
-// GIMP weights average. uGIMP keeps l_p as it was made (Bardenhagen & Kober 2004, Sec. 4).
+// The material point method's particle: a box of half-width l_p = (A_0)^(1/dim) / 2 around it,
+// A_0 its volume m / rho at its start (in rz its area in the r-z plane, m / (2 pi r rho)): the
+// body's spacing on a cubic lattice. Its GIMP weights average over the box; uGIMP keeps l_p as
+// it was made (Bardenhagen & Kober 2004).
 #include "spall/methods/Module.hpp"
 
 #include <cmath>
+#include <numbers>
 
 namespace spall::methods {
 
 template <int Dim> class MaterialPoints final : public Module<Dim> {
 public:
+  explicit MaterialPoints(bool axisymmetric) : rz_(axisymmetric) {}
   void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override {
     f.halfWidth = s.add<double>("particle_half_width", kOutput | kCheckpoint | kHalo);
   }
@@ -17,9 +20,15 @@ public:
                   const RunStart& start) const override {
     const auto m = s[f.m], rho = s[f.rho];
     const auto lp = s[f.halfWidth];
-    for (std::size_t i = start.first; i < s.localCount(); ++i)
-      lp[i] = 0.5 * std::pow(m[i] / rho[i], 1.0 / Dim);
+    const auto x = s[f.x];
+    for (std::size_t i = start.first; i < s.localCount(); ++i) {
+      const double ring = rz_ ? 2.0 * std::numbers::pi * x[i][0] : 1.0;
+      lp[i] = 0.5 * std::pow(m[i] / (ring * rho[i]), 1.0 / Dim);
+    }
   }
+
+private:
+  bool rz_;
 };
 
 } // namespace spall::methods

@@ -1,5 +1,5 @@
 #pragma once
-// What SphMethod is configured with (app/Setup fills it from the deck).
+// What a method (SphMethod, MpmMethod) is configured with (app/Setup fills it from the deck).
 #include "spall/solvers/Config.hpp"
 
 #include <functional>
@@ -8,8 +8,10 @@
 
 namespace spall::methods {
 
-struct SphSetup {
-  SolverConfig solver;
+struct MethodSetup {
+  SolverConfig solver; // MPM: its cell size resolved (app/Setup)
+  // The deck's boundaries, in rz with the axis first (a folding mirror for SPH, a constrained
+  // node plane for MPM).
   std::vector<BoundaryConfig> boundaries;
   bool reproducible = true;                     // neighbor sums in a rank-count-independent order
   double imbalanceThreshold = 1.1;              // a rebalance above it is worth a note
