@@ -8,6 +8,11 @@ void readSolver(const TableReader& r, SolverConfig& s) {
   s.where = r.where();
   s.method = r.choice("method", {"sph", "asph", "mpm"}, "sph");
   s.mpm.where = r.where();
+  if (s.method == "mpm")
+    for (const char* key :
+         {"kernel", "density", "stress_form", "artificial_viscosity", "artificial_stress",
+          "velocity_gradient", "h_min", "h_max", "h_min_ratio", "h_max_ratio", "max_aspect_ratio"})
+      if (r.has(key)) s.sphOnlyKeys.push_back(key);
   if (const auto* t = r.subtable("mpm")) {
     if (s.method != "mpm")
       r.fail("mpm", r.quoted("mpm") +

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fmt/format.h>
 #include <limits>
 #include <numeric>
 
@@ -21,39 +22,74 @@ MpmMethod<Dim>::MpmMethod(const parallel::MpiContext& mpi, MethodSetup setup,
 }
 
 // t = 0 (or a body joining): the modules' initial values (the points' half-widths among them),
-// p and cs; at t = 0 also the grid's origin: on each axis a wall's plane if a wall is normal to
-// it, else the lowest corner of all the points' boxes, so that a body's face lies on a grid plane.
+// p and cs, and every point's box within half a cell (GIMP's weights need it); at t = 0 also the
+// grid's origin (placeOrigin). A join must not place it again: a rank that held no particle
+// then has run.first == 0 too.
 template <int Dim> void MpmMethod<Dim>::start(const RunStart& run) {
   for (const auto& m : modules_) m->initialise(s_, f_, run);
   materials_.evaluate(materialFields());
-  if (run.first == 0) {
-    std::array<double, Dim> lo;
-    lo.fill(std::numeric_limits<double>::infinity());
-    const auto x = s_[f_.x];
-    const auto lp = s_[f_.halfWidth];
-    for (std::size_t i = 0; i < s_.localCount(); ++i)
-      for (int a = 0; a < Dim; ++a)
-        lo[static_cast<std::size_t>(a)] =
-            std::min(lo[static_cast<std::size_t>(a)], x[i][a] - lp[i]);
-    MPI_Allreduce(MPI_IN_PLACE, lo.data(), Dim, MPI_DOUBLE, MPI_MIN, mpi_.comm());
-    for (int a = 0; a < Dim; ++a)
-      origin_[a] =
-          std::isfinite(lo[static_cast<std::size_t>(a)]) ? lo[static_cast<std::size_t>(a)] : 0.0;
-    // A wall along a grid axis lies on a node plane, where its constraint acts (the rz axis
-    // among them); the first such wall of each axis sets that axis's origin.
-    std::array<bool, Dim> aligned{};
-    for (const auto& b : setup_.boundaries) {
-      if (b.type != "rigid_wall") continue;
-      for (int a = 0; a < Dim; ++a) {
-        const auto sa = static_cast<std::size_t>(a);
-        bool alongA = b.normal[sa] != 0.0;
-        for (int c = 0; c < Dim; ++c)
-          alongA = alongA && (c == a || b.normal[static_cast<std::size_t>(c)] == 0.0);
-        if (alongA && !aligned[sa]) origin_[a] = b.point[sa], aligned[sa] = true;
-      }
-    }
+  const auto& mpm = setup_.solver.mpm;
+  if (mpm.shape == MpmShape::Gimp) {
+    double lpMax = 0.0;
+    for (double lp : s_[f_.halfWidth].first(s_.localCount())) lpMax = std::max(lpMax, lp);
+    lpMax = mpi_.max(lpMax);
+    if (lpMax > 0.5 * mpm.cell_size * (1.0 + 1e-9))
+      throw DeckError(mpm.where,
+                      fmt::format("solver.mpm.cell_size: a point's box (its volume's side, {:g} m) "
+                                  "is wider than the cell, {:g} m; GIMP needs it within half a "
+                                  "cell (a larger cell_size, or shape = \"linear\")",
+                                  2.0 * lpMax, mpm.cell_size));
   }
+  if (!originPlaced_) placeOrigin();
   makeGrid();
+}
+
+// On each axis a wall is normal to, the first such wall's plane (its constraint acts on node
+// planes: with the origin a sliver off it, a Taylor bar fell a cell through its wall), else the
+// lowest corner of all the points' boxes (a body's face on a grid plane). Every other wall must
+// then lie on a grid plane too: a deck error if not.
+template <int Dim> void MpmMethod<Dim>::placeOrigin() {
+  std::array<double, Dim> lo;
+  lo.fill(std::numeric_limits<double>::infinity());
+  const auto x = s_[f_.x];
+  const auto lp = s_[f_.halfWidth];
+  for (std::size_t i = 0; i < s_.localCount(); ++i)
+    for (int a = 0; a < Dim; ++a)
+      lo[static_cast<std::size_t>(a)] = std::min(lo[static_cast<std::size_t>(a)], x[i][a] - lp[i]);
+  MPI_Allreduce(MPI_IN_PLACE, lo.data(), Dim, MPI_DOUBLE, MPI_MIN, mpi_.comm());
+  for (int a = 0; a < Dim; ++a)
+    origin_[a] =
+        std::isfinite(lo[static_cast<std::size_t>(a)]) ? lo[static_cast<std::size_t>(a)] : 0.0;
+  const auto axisOf = [](const BoundaryConfig& b) {
+    int axis = -1;
+    for (int a = 0; a < Dim; ++a)
+      if (b.normal[static_cast<std::size_t>(a)] != 0.0) axis = axis < 0 ? a : Dim;
+    return axis; // -1 or Dim: not along one axis
+  };
+  std::array<bool, Dim> aligned{};
+  for (const auto& b : setup_.boundaries) {
+    const int a = axisOf(b);
+    if (b.type != "rigid_wall" || a < 0 || a >= Dim || aligned[static_cast<std::size_t>(a)])
+      continue;
+    origin_[a] = b.point[static_cast<std::size_t>(a)];
+    aligned[static_cast<std::size_t>(a)] = true;
+  }
+  const double hc = setup_.solver.mpm.cell_size;
+  for (const auto& b : setup_.boundaries) {
+    if (b.type != "rigid_wall") continue;
+    const int a = axisOf(b);
+    if (a < 0 || a >= Dim)
+      throw DeckError(b.where, "a rigid wall with MPM is normal to a grid axis (its constraint "
+                               "acts on node planes); this one is oblique");
+    const double k = (b.point[static_cast<std::size_t>(a)] - origin_[a]) / hc;
+    if (std::abs(k - std::round(k)) > 1e-6)
+      throw DeckError(b.where, fmt::format("this rigid wall lies {:g} cells from the grid plane "
+                                           "of the first wall along its axis: with MPM every "
+                                           "wall must lie on a grid plane (walls a whole number "
+                                           "of cells apart, solver.mpm.cell_size {:g} m)",
+                                           k, hc));
+  }
+  originPlaced_ = true;
 }
 
 // The state alone determines the next step (the grid is made afresh from it): nothing to
@@ -149,7 +185,10 @@ template <int Dim> void MpmMethod<Dim>::exchangeHalo() {
   const std::size_t n = s_.localCount();
   double lpMax = 0.0;
   for (double lp : s_[f_.halfWidth].first(n)) lpMax = std::max(lpMax, lp);
-  const double R = grid_->haloReach(mpi_.max(lpMax));
+  // At least the kernel support: friends of friends link within it over the same ghosts.
+  double hMax = 0.0;
+  for (double h : s_[f_.h].first(n)) hMax = std::max(hMax, h);
+  const double R = std::max(grid_->haloReach(mpi_.max(lpMax)), support() * mpi_.max(hMax));
   reach_.assign(n, std::sqrt(static_cast<double>(Dim)) * R);
   boxReach_.assign(n, Vec<Dim>::Constant(R));
   halo_.build(s_, f_.x, reach_, std::span<const Vec<Dim>>(boxReach_), haloFields_);
@@ -210,6 +249,7 @@ template <int Dim> void MpmMethod<Dim>::restore(const io::CheckpointState& st) {
   Base::restore(st);
   const auto& o = st.realArray("mpm_grid_origin");
   for (int a = 0; a < Dim; ++a) origin_[a] = o.at(static_cast<std::size_t>(a));
+  originPlaced_ = true;
   makeGrid();
 }
 

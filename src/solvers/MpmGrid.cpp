@@ -39,7 +39,7 @@ public:
       // rz: the hoop stress's share of the radial force, sigma_tt S / r (the weak form's
       // 2 pi r dA is in the ring's mass and volume).
       Vec<Dim> hoop = Vec<Dim>::Zero();
-      if (rz_) hoop[0] = ((solid ? P.S[r](2, 2) : 0.0) - P.p[r]) / P.x[r][0];
+      if (rz_) hoop[0] = ((solid ? P.S[r](2, 2) : 0.0) - P.p[r]) / radius(P, r);
       for (int q = 0; q < K; ++q) {
         const std::size_t e = r * K + static_cast<std::size_t>(q);
         const std::uint32_t I = node_[e];
@@ -61,7 +61,11 @@ public:
       velocity_[I] = vL;
       increment_[I] = vL - v;
     }
-    // G2P on the owned rows.
+    // G2P on the owned rows (rz: their radii at the step's start kept for the hoop rate).
+    if (rz_) {
+      radius_.resize(P.owned);
+      for (std::size_t r = 0; r < P.owned; ++r) radius_[r] = radius(P, r);
+    }
     const double flip = c_.flip;
     for (std::size_t r = 0; r < P.owned; ++r) {
       Vec<Dim> vPic = Vec<Dim>::Zero(), dv = Vec<Dim>::Zero();
@@ -107,11 +111,18 @@ public:
       }
       L[r].setZero();
       L[r].template topLeftCorner<Dim, Dim>() = l;
-      if (rz_) L[r](2, 2) = vr / P.x[r][0];
+      if (rz_) L[r](2, 2) = vr / radius_[r];
     }
   }
 
 private:
+  // rz: a ring's radius at the step's start, and at least its box's half-width (a ring closer
+  // to the axis than that lies on it; its mass, made at its first radius, would otherwise turn
+  // sigma_tt / r and v_r / r infinite).
+  static double radius(const MpmParticles<Dim>& P, std::size_t r) {
+    return std::max(P.x[r][0], P.halfWidth[r]);
+  }
+
   // Each row's block of nodes and weights, and the nodes numbered: densely over the rows'
   // bounding box of nodes when it is small against the entries, else by sorting the keys.
   void connect(const MpmParticles<Dim>& P, std::size_t rows) {
@@ -202,7 +213,8 @@ private:
   MpmConfig c_;
   Vec<Dim> origin_;
   std::vector<GridWall<Dim>> walls_;
-  bool rz_; // axisymmetric: x = r, y = z, the points rings
+  bool rz_;                    // axisymmetric: x = r, y = z, the points rings
+  std::vector<double> radius_; // rz: the owned rings' radii for the hoop rate
   // Per row and block entry (row r, entry q at r K + q): the node's number, S and grad S.
   std::vector<std::uint32_t> node_;
   std::vector<double> S_;

@@ -173,6 +173,19 @@ def main():
         t = ok + '[solver]\nmethod = "mpm"\nmpm = { cell_size = 1.0e-9 }\n'
         deck_error("mpm_cell_size", t, line_of(t, "mpm =")[0], 7,
                    ["cell_size", "smaller than the coarsest body spacing"], tmp)
+        # ... and on the points as made: a 1 mm box at a 0.14 mm spacing holds 7 points 0.143 mm
+        # apart, wider than a 0.14 mm cell's half.
+        t = replace_line(ok, "spacing = 1.0e-4", "spacing = 1.4e-4")
+        t += '[solver]\nmethod = "mpm"\nmpm = { cell_size = 1.4e-4 }\n'
+        deck_error("mpm_point_box", t, line_of(t, "mpm =")[0], 7,
+                   ["a point's box", "wider than the cell"], tmp)
+        # Walls act on grid planes: a second wall 5.25 cells from the first is refused.
+        walls = ('[[boundary]]\ntype = "rigid_wall"\npoint = [-0.001]\nnormal = [1.0]\n'
+                 '[[boundary]]\ntype = "rigid_wall"\npoint = [0.00005]\nnormal = [-1.0]\n')
+        t = ok + '[solver]\nmethod = "mpm"\n' + walls
+        deck_error("mpm_wall_off_grid", t, [k for k, l in enumerate(t.splitlines(), 1)
+                                            if l == "[[boundary]]"][1], 1,
+                   ["lies 5.25 cells from the grid plane"], tmp)
         t = ok + '[solver]\nmethod = "mpm"\n[damping]\ncoefficient = 1.0\nuntil = 1.0e-6\n'
         deck_error("mpm_damping", t, line_of(t, "[damping]")[0], 1,
                    ["[damping] is not available with solver.method = \"mpm\" yet"], tmp)

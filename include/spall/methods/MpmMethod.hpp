@@ -37,12 +37,14 @@ private:
   std::pair<double, std::size_t> localTimeStep() const override;
   void exchangeHalo() override;
   void makeGrid();
+  void placeOrigin();
   solvers::MpmParticles<Dim> particles();
   void idOrder();
   void deform(double dt);
 
   MethodSetup setup_;
   Vec<Dim> origin_ = Vec<Dim>::Zero(); // the grid's node 0: set at t = 0, checkpointed
+  bool originPlaced_ = false;
   std::unique_ptr<solvers::MpmGrid<Dim>> grid_;
   std::vector<std::size_t> haloFields_, velocityField_;
   std::vector<std::uint32_t> order_; // rows in id order: every node sums in it

@@ -110,6 +110,7 @@ struct SolverConfig {
   double max_aspect_ratio = 10.0;
   Geometry geometry = Geometry::Cartesian; // from run.geometry
   MpmConfig mpm;                           // solver.method = "mpm"
+  std::vector<std::string> sphOnlyKeys;    // given with "mpm", where they do nothing
   SourceLocation where;
 };
 
