@@ -283,12 +283,6 @@ void DeckReader::readBody(const TableReader& r, const std::vector<MaterialConfig
   b.jitter = r.number("jitter").value_or(0.0);
   r.check(b.jitter >= 0.0 && b.jitter < 0.5, "jitter", "in [0, 0.5) (a fraction of the spacing)",
           b.jitter);
-  if (const toml::table* t = r.subtable("radial_velocity")) {
-    const TableReader rv = reader(*t, r.context().child("radial_velocity"));
-    rv.allowOnly(*dd::schemaKeys("body.radial_velocity"));
-    b.radial_velocity =
-        RadialVelocityConfig{point(rv, "center"), rv.required(rv.number("speed"), "speed")};
-  }
   b.insert_time = r.number("insert_time").value_or(0.0);
   r.check(b.insert_time >= 0.0, "insert_time", ">= 0", b.insert_time);
   b.lattice_transform = r.matrix("lattice_transform", dimension_);
@@ -297,31 +291,7 @@ void DeckReader::readBody(const TableReader& r, const std::vector<MaterialConfig
     r.check(det != 0.0, "lattice_transform", "invertible (non-zero determinant)", det);
   }
   b.allow_overlap = r.boolean("allow_overlap").value_or(false);
-  if (const toml::table* t = r.subtable("cantilever_velocity")) {
-    const TableReader cv = reader(*t, r.context().child("cantilever_velocity"));
-    cv.allowOnly(*dd::schemaKeys("body.cantilever_velocity"));
-    if (dimension_ < 2)
-      r.fail("cantilever_velocity", r.quoted("cantilever_velocity") +
-                                        " needs run.dimension 2 or 3 (a transverse velocity)");
-    CantileverVelocityConfig c;
-    c.root = point(cv, "root");
-    c.length = cv.required(cv.number("length"), "length");
-    cv.check(c.length > 0.0, "length", "> 0", c.length);
-    c.tip_speed = cv.required(cv.number("tip_speed"), "tip_speed");
-    b.cantilever_velocity = c;
-  }
-  if (const toml::table* t = r.subtable("linear_velocity")) {
-    const TableReader lv = reader(*t, r.context().child("linear_velocity"));
-    lv.allowOnly(*dd::schemaKeys("body.linear_velocity"));
-    b.linear_velocity = LinearVelocityConfig{
-        point(lv, "center"), lv.required(lv.matrix("gradient", dimension_), "gradient")};
-  }
-  if (const toml::table* t = r.subtable("sine_velocity")) {
-    const TableReader sv = reader(*t, r.context().child("sine_velocity"));
-    sv.allowOnly(*dd::schemaKeys("body.sine_velocity"));
-    b.sine_velocity =
-        SineVelocityConfig{point(sv, "amplitude"), point(sv, "wavevector"), point(sv, "origin")};
-  }
+  dd::readVelocityFields(r, dimension_, b);
   b.fixed = r.boolean("fixed").value_or(false);
   // A fixed body has no acceleration: at rest it is a clamp, with a uniform velocity a piston
   // driven at that speed. A velocity field would shear it forever.

@@ -133,6 +133,9 @@ void readJet(const TableReader& r, std::size_t dimension, bool rz,
              const std::vector<MaterialConfig>& materials, std::vector<BodyConfig>& bodies,
              const std::string& name);
 
+// A body's velocity fields (DeckBodyVelocity.cpp): radial, cantilever, linear, sine.
+void readVelocityFields(const TableReader& r, std::size_t dimension, BodyConfig& b);
+
 // A [[boundary]] type = "pressure"'s `pressure` table (DeckPressureTable.cpp): (time s, Pa) rows,
 // times rising from >= 0.
 std::vector<std::pair<double, double>> readPressureTable(const TableReader& r);

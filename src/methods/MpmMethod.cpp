@@ -143,7 +143,10 @@ template <int Dim> void MpmMethod<Dim>::deform(double dt) {
   const std::span<const Tensor<3>> L = f_.hasStrength()
                                            ? std::span<const Tensor<3>>(s_[f_.L].first(n))
                                            : std::span<const Tensor<3>>(L_);
-  std::vector<double> work(n), rhoMid(n); // sigma_n : D, and rho_{n+1/2}
+  auto& work = work_;
+  auto& rhoMid = rhoMid_;
+  work.resize(n);
+  rhoMid.resize(n);
   const auto power = [&](std::size_t i) {
     const Tensor<3> D = 0.5 * (L[i] + L[i].transpose());
     double w = -p[i] * D.trace();

@@ -47,8 +47,9 @@ private:
   bool originPlaced_ = false;
   std::unique_ptr<solvers::MpmGrid<Dim>> grid_;
   std::vector<std::size_t> haloFields_, velocityField_;
-  std::vector<std::uint32_t> order_; // rows in id order: every node sums in it
-  std::vector<Tensor<3>> L_;         // the step's velocity gradient (fluids: no L field)
+  std::vector<std::uint32_t> order_;  // rows in id order: every node sums in it
+  std::vector<Tensor<3>> L_;          // the step's velocity gradient (fluids: no L field)
+  std::vector<double> work_, rhoMid_; // deform(): sigma_n : D and rho_{n+1/2} per point
   std::vector<double> reach_;
   std::vector<Vec<Dim>> boxReach_;
 };
