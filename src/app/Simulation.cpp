@@ -471,7 +471,9 @@ template <int Dim> void Simulation<Dim>::checkpoint(double dtNext, Clock::time_p
     penetrationCsv_.flush();
     const std::string name = checkpointFileName(step_);
     const fs::path ckDir = dir_ / "checkpoints";
-    const double wall = std::chrono::duration<double>(Clock::now() - wall0).count();
+    // Every rank must write the same state (each writes its checksums; rank 0 the values): the
+    // wall time as the slowest rank's. A rank's own clock here corrupted 3-rank checkpoints.
+    const double wall = mpi_.max(std::chrono::duration<double>(Clock::now() - wall0).count());
     const auto w =
         io::writeCheckpoint(mpi_.comm(), (ckDir / name).string(), store_, time_, step_, Dim,
                             BuildInfo::version(), saveState(dtNext, wallOffset_ + wall));

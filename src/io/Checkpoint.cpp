@@ -37,14 +37,22 @@ void writeChecksum(hid_t dset, std::uint64_t sum, const std::string& path) {
 }
 
 // A 1-D state array written by rank 0 alone (the others join with empty selections).
-void writeStateArray(hid_t group, hid_t dxpl, bool root, const std::string& name, hid_t fileT,
-                     hid_t memT, const void* data, std::size_t count, std::size_t scalarBytes,
-                     const std::string& path) {
+// The state is rank 0's: its values and its checksums (each rank writes the checksum attribute,
+// so a rank whose copy differed, a wall clock, would otherwise leave a checksum that does not
+// match the data).
+std::uint64_t rootChecksum(MPI_Comm comm, std::uint64_t sum) {
+  MPI_Bcast(&sum, 1, MPI_UINT64_T, 0, comm);
+  return sum;
+}
+
+void writeStateArray(MPI_Comm comm, hid_t group, hid_t dxpl, bool root, const std::string& name,
+                     hid_t fileT, hid_t memT, const void* data, std::size_t count,
+                     std::size_t scalarBytes, const std::string& path) {
   const hsize_t dims[1] = {count};
   Handle space(H5Screate_simple(1, dims, nullptr), H5Sclose, path, "H5Screate_simple");
   Handle dset(H5Dcreate2(group, name.c_str(), fileT, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
               H5Dclose, path, "H5Dcreate2(state/" + name + ")");
-  writeChecksum(dset, rowChecksum(data, scalarBytes, count, 0), path);
+  writeChecksum(dset, rootChecksum(comm, rowChecksum(data, scalarBytes, count, 0)), path);
   if (count == 0) return;
   Handle mem(H5Screate_simple(1, dims, nullptr), H5Sclose, path, "H5Screate_simple");
   if (!root) {
@@ -54,7 +62,7 @@ void writeStateArray(hid_t group, hid_t dxpl, bool root, const std::string& name
   check(H5Dwrite(dset, memT, mem, space, dxpl, data), path, "H5Dwrite(state)");
 }
 
-void writeStateText(hid_t group, hid_t dxpl, bool root, const std::string& name,
+void writeStateText(MPI_Comm comm, hid_t group, hid_t dxpl, bool root, const std::string& name,
                     const std::string& text, const std::string& path) {
   Handle type(H5Tcopy(H5T_C_S1), H5Tclose, path, "H5Tcopy");
   check(H5Tset_size(type, text.size() + 1), path, "H5Tset_size");
@@ -62,7 +70,7 @@ void writeStateText(hid_t group, hid_t dxpl, bool root, const std::string& name,
   Handle space(H5Screate(H5S_SCALAR), H5Sclose, path, "H5Screate");
   Handle dset(H5Dcreate2(group, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
               H5Dclose, path, "H5Dcreate2(state/" + name + ")");
-  writeChecksum(dset, rowChecksum(text.data(), text.size(), 1, 0), path);
+  writeChecksum(dset, rootChecksum(comm, rowChecksum(text.data(), text.size(), 1, 0)), path);
   Handle mem(H5Screate(H5S_SCALAR), H5Sclose, path, "H5Screate");
   if (!root) {
     check(H5Sselect_none(space), path, "H5Sselect_none");
@@ -159,21 +167,21 @@ CheckpointWrite writeCheckpoint(MPI_Comm comm, const std::string& path, const Pa
 
     Handle dxpl(H5Pcreate(H5P_DATASET_XFER), H5Pclose, tmp, "H5Pcreate");
     check(H5Pset_dxpl_mpio(dxpl, H5FD_MPIO_COLLECTIVE), tmp, "H5Pset_dxpl_mpio");
-    writeStateArray(file, dxpl, root, "rank_counts", H5T_STD_U64LE, H5T_NATIVE_UINT64,
+    writeStateArray(comm, file, dxpl, root, "rank_counts", H5T_STD_U64LE, H5T_NATIVE_UINT64,
                     rankCounts.data(), rankCounts.size(), 8, tmp);
     {
       Handle g(H5Gcreate2(file, "state", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, tmp,
                "H5Gcreate2(state)");
       for (const auto& [name, v] : state.reals)
-        writeStateArray(g, dxpl, root, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v.data(), v.size(),
-                        8, tmp);
+        writeStateArray(comm, g, dxpl, root, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v.data(),
+                        v.size(), 8, tmp);
       for (const auto& [name, v] : state.integers)
-        writeStateArray(g, dxpl, root, name, H5T_STD_I64LE, H5T_NATIVE_INT64, v.data(), v.size(), 8,
-                        tmp);
+        writeStateArray(comm, g, dxpl, root, name, H5T_STD_I64LE, H5T_NATIVE_INT64, v.data(),
+                        v.size(), 8, tmp);
       for (const auto& [name, v] : state.unsignedIntegers)
-        writeStateArray(g, dxpl, root, name, H5T_STD_U64LE, H5T_NATIVE_UINT64, v.data(), v.size(),
-                        8, tmp);
-      for (const auto& [name, t] : state.texts) writeStateText(g, dxpl, root, name, t, tmp);
+        writeStateArray(comm, g, dxpl, root, name, H5T_STD_U64LE, H5T_NATIVE_UINT64, v.data(),
+                        v.size(), 8, tmp);
+      for (const auto& [name, t] : state.texts) writeStateText(comm, g, dxpl, root, name, t, tmp);
     }
     Handle g(H5Gcreate2(file, "particles", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, tmp,
              "H5Gcreate2(particles)");

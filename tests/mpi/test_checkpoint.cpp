@@ -183,3 +183,22 @@ TEST(CheckpointAcrossRanks, CorruptionSeenByOneRankStopsAllRanks) {
   MPI_Barrier(MPI_COMM_WORLD);
   if (rankIn(MPI_COMM_WORLD) == 0) fs::remove_all(dir);
 }
+
+TEST(CheckpointAcrossRanks, TheStateIsRankZerosEvenWhereRanksDisagree) {
+  // A value only rank 0's copy of is stored (a wall clock differs on every rank): every rank
+  // writes the checksum attribute, so each must write rank 0's checksum, or the file reads as
+  // corrupt (as a 3-rank restart did) whichever rank's attribute landed.
+  const fs::path dir = sharedScratch("state");
+  const std::string path = (dir / "c.h5").string();
+  Store w = writerStore(MPI_COMM_WORLD);
+  const int me = rankIn(MPI_COMM_WORLD);
+  io::CheckpointState st;
+  st.reals["wall_seconds"] = {1.0 + me};
+  st.texts["note"] = me == 0 ? "rank zero" : "rank nine"; // the same length: one dataset shape
+  io::writeCheckpoint(MPI_COMM_WORLD, path, w.s, 0.0, 0, 2, "test", st);
+  const auto h = io::readCheckpointHeader(MPI_COMM_WORLD, path);
+  EXPECT_EQ(h.state.real("wall_seconds"), 1.0);
+  EXPECT_EQ(h.state.texts.at("note"), "rank zero");
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (me == 0) fs::remove_all(dir);
+}
