@@ -212,7 +212,9 @@ std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck
   if (solids && solver.velocity_gradient == VelocityGradient::Corrected && !mpm)
     list.push_back(std::make_unique<methods::KernelCorrection<Dim>>());
   if (solver.method == "asph") list.push_back(std::make_unique<methods::SmoothingTensor<Dim>>());
-  if (solver.contact != Contact::Welded && !mpm)
+  // MPM: "auto" is the grid's single velocity field (Uintah's default; the multi-field contact
+  // is the explicit "frictionless": decks/README.md, "The material point method").
+  if (solver.contact == Contact::Frictionless || (solver.contact == Contact::Auto && !mpm))
     list.push_back(std::make_unique<methods::FrictionlessContact<Dim>>());
   std::vector<typename methods::ConfiningPressure<Dim>::Load> loads;
   for (const auto& b : deck.boundaries)
@@ -252,6 +254,8 @@ methods::MethodSetup methodSetup(const Deck& deck) {
     axis.fold = true;
     s.boundaries.insert(s.boundaries.begin(), axis);
   }
+  for (std::size_t b = 0; b < deck.bodies.size(); ++b)
+    if (deck.bodies[b].fixed) s.fixedBodies.push_back(static_cast<std::int32_t>(b));
   s.reproducible = deck.decomposition.reproducible;
   s.imbalanceThreshold = deck.decomposition.imbalance_threshold;
   if (deck.solver.method != "mpm") return s;

@@ -124,13 +124,9 @@ void checkMpmScope(const Deck& deck) {
   };
   if (deck.decomposition.partitioner == "metis")
     fail(deck.solver.where, "decomposition.partitioner = \"metis\" (a graph of neighbor pairs)");
-  if (deck.solver.contact == Contact::Frictionless)
-    fail(deck.solver.where, "solver.contact = \"frictionless\" (one velocity field per body)");
   for (const auto& b : deck.boundaries)
-    if (b.type != "rigid_wall") fail(b.where, "a boundary of type '" + b.type + "'");
-  for (const auto& b : deck.bodies)
-    if (b.fixed) fail(b.where, "a fixed body ('" + b.name + "')");
-  if (deck.damping) fail(deck.damping->where, "[damping]");
+    if (b.type != "rigid_wall" && b.type != "pressure")
+      fail(b.where, "a boundary of type '" + b.type + "'");
 }
 
 } // namespace spall::io::deck_detail

@@ -19,6 +19,14 @@ MpmMethod<Dim>::MpmMethod(const parallel::MpiContext& mpi, MethodSetup setup,
       setup_(std::move(setup)) {
   haloFields_ = store.columnsWith(kHalo);
   velocityField_ = {f.v.index};
+  fixedBodies_ = setup_.fixedBodies;
+  std::sort(fixedBodies_.begin(), fixedBodies_.end());
+  loaded_ = !fixedBodies_.empty() || f.confiningPressure.valid() ||
+            std::any_of(modules_.begin(), modules_.end(),
+                        [](const auto& m) { return m->appliesExternalForces(); });
+  if (loaded_) loadFields_.push_back(f.a.index);
+  if (f.confiningPressure.valid()) loadFields_.push_back(f.confiningPressure.index);
+  if (!fixedBodies_.empty()) loadFields_.push_back(f.body.index);
 }
 
 // t = 0 (or a body joining): the modules' initial values (the points' half-widths among them),
@@ -68,9 +76,9 @@ template <int Dim> void MpmMethod<Dim>::placeOrigin() {
   };
   std::array<bool, Dim> aligned{};
   for (const auto& b : setup_.boundaries) {
+    if (b.type != "rigid_wall") continue; // a pressure boundary has no plane
     const int a = axisOf(b);
-    if (b.type != "rigid_wall" || a < 0 || a >= Dim || aligned[static_cast<std::size_t>(a)])
-      continue;
+    if (a < 0 || a >= Dim || aligned[static_cast<std::size_t>(a)]) continue;
     origin_[a] = b.point[static_cast<std::size_t>(a)];
     aligned[static_cast<std::size_t>(a)] = true;
   }
@@ -103,8 +111,15 @@ template <int Dim> void MpmMethod<Dim>::advance(double dt, std::int64_t step, do
   if (!grid_) makeGrid();
   stats_.phases.time(kExchange, [&] { exchangeHalo(); });
   stats_.phases.time(kNeighbors, [&] { idOrder(); });
+  if (loaded_) stats_.phases.time(kBoundaries, [&] { loads(time); });
   const auto P = particles();
   stats_.phases.time(kForces, [&] { grid_->project(P, order_, dt); });
+  if (loaded_) {
+    // The loads act through the whole step as the state at t_n set them (not the leapfrog's
+    // two half-kicks): the step's work is dt times their power, with the points' new velocities.
+    external_ = externalLoad(time);
+    bookExternal(dt, external_);
+  }
   stats_.phases.time(kExchange, [&] { halo_.refresh(s_, velocityField_); });
   const std::size_t n = s_.localCount();
   std::span<Tensor<3>> L;
@@ -128,6 +143,23 @@ template <int Dim> void MpmMethod<Dim>::advance(double dt, std::int64_t step, do
   for (std::size_t i = 0; i < s_.localCount(); ++i) cost[i] = 1; // every point costs the same
   checkFinite(step + 1, time + dt);
   if (mpi_.size() > 1) stats_.phases.time(kExchange, [&] { balance(step + 1, {}, {}); });
+}
+
+// The modules' loads on the state at `time`, as SPH's force evaluation takes them: each owned
+// point's external acceleration (a = 0, then the hooks: damping -c v, none on a fixed body) and
+// its body's confining pressure; the ghosts get them, and which rows are a fixed body's.
+template <int Dim> void MpmMethod<Dim>::loads(double time) {
+  const std::size_t n = s_.localCount();
+  for (auto& a : s_[f_.a].first(n)) a.setZero();
+  for (const auto& m : modules_) m->beforeRates(s_, f_, time);
+  for (const auto& m : modules_) m->afterRates(s_, f_, time);
+  halo_.refresh(s_, loadFields_);
+  if (fixedBodies_.empty()) return;
+  const std::size_t rows = n + halo_.ghosts();
+  const auto body = s_[f_.body];
+  rigid_.resize(rows);
+  for (std::size_t r = 0; r < rows; ++r)
+    rigid_[r] = std::binary_search(fixedBodies_.begin(), fixedBodies_.end(), body[r]) ? 1 : 0;
 }
 
 // Density and energy with the step's velocity gradient, then the materials: rho_{n+1} = rho_n /
@@ -230,6 +262,14 @@ template <int Dim> solvers::MpmParticles<Dim> MpmMethod<Dim>::particles() {
   P.halfWidth = s_[f_.halfWidth].first(rows);
   if (f_.hasStrength()) P.S = s_[f_.S].first(rows);
   P.owned = s_.localCount();
+  // contact "frictionless" or "auto": a velocity field per contact group (solvers/MpmGrid).
+  if (f_.contactGroup.valid()) P.field = s_[f_.contactGroup].first(rows);
+  if (loaded_) P.aExt = s_[f_.a].first(rows);
+  if (!fixedBodies_.empty()) P.rigid = rigid_;
+  if (f_.confiningPressure.valid()) {
+    P.load = s_[f_.confiningPressure].first(rows);
+    P.loadArea = s_[f_.surfaceArea].first(P.owned);
+  }
   return P;
 }
 

@@ -169,7 +169,7 @@ def main():
         deck_error("h_min_ratio", t, line_of(t, "h_min_ratio =")[0], 15,
                    ["h_min_ratio", "<= h_max_ratio (2)"], tmp)
         # MPM: GIMP's cells hold a point's box (a cell at least the spacing), checked at set-up
-        # where the cell size is resolved; [damping] is not available with MPM yet.
+        # where the cell size is resolved; a periodic boundary is not available with MPM yet.
         t = ok + '[solver]\nmethod = "mpm"\nmpm = { cell_size = 1.0e-9 }\n'
         deck_error("mpm_cell_size", t, line_of(t, "mpm =")[0], 7,
                    ["cell_size", "smaller than the coarsest body spacing"], tmp)
@@ -186,9 +186,11 @@ def main():
         deck_error("mpm_wall_off_grid", t, [k for k, l in enumerate(t.splitlines(), 1)
                                             if l == "[[boundary]]"][1], 1,
                    ["lies 5.25 cells from the grid plane"], tmp)
-        t = ok + '[solver]\nmethod = "mpm"\n[damping]\ncoefficient = 1.0\nuntil = 1.0e-6\n'
-        deck_error("mpm_damping", t, line_of(t, "[damping]")[0], 1,
-                   ["[damping] is not available with solver.method = \"mpm\" yet"], tmp)
+        t = ok + ('[solver]\nmethod = "mpm"\n[[boundary]]\ntype = "periodic"\naxis = 0\n'
+                  'min = -0.001\nmax = 0.001\n')
+        deck_error("mpm_periodic", t, line_of(t, "[[boundary]]")[0], 1,
+                   ["a boundary of type 'periodic' is not available with solver.method = \"mpm\""],
+                   tmp)
         t = ok + "[damping]\ncoefficient = -1.0\nuntil = 1.0e-6\n"
         deck_error("damping_coefficient", t, line_of(t, "coefficient =")[0], 15,
                    ["coefficient", "> 0"], tmp)

@@ -94,13 +94,19 @@ CASES = [("sod_1d.toml", []), ("rod_impact_copper.toml", ["run.end_time=6e-6"]),
          # a wall node, 2D through the disks' impact, 3D with Johnson-Cook against the wall
          ("vibrating_bar_mpm_1d.toml", ["run.end_time=10"]),
          ("two_disks_mpm_2d.toml", []),
+         # ... frictionless contact: a velocity field per disk, the contact at each node summed
+         # over its fields in field order
+         ("glancing_disks_mpm_2d.toml", ["run.end_time=2.5"]),
          ("taylor_bar_3d.toml", ["run.resolution=0.4", "run.max_steps=40", "solver.method=mpm"]),
          # ... and in rz: the axis a constrained node plane, the hoop terms
          ("taylor_bar_4340_rz.toml", ["run.end_time=2e-5", "solver.method=mpm"]),
          # ... with bodies joining (a [[jet]]'s segments): the grid's origin stays where t = 0
-         # put it on every rank, including ranks that hold nothing when a segment joins
+         # put it on every rank, including ranks that hold nothing when a segment joins; and with
+         # a velocity field per body (frictionless): a segment's field joins the nodes' lists
          ("rod_segmented_into_steel_rz.toml", ["run.resolution=0.5", "run.end_time=1.5e-5",
-                                               "solver.method=mpm"])]
+                                               "solver.method=mpm"]),
+         ("rod_segmented_into_steel_rz.toml", ["run.resolution=0.5", "run.end_time=1.5e-5",
+                                               "solver.method=mpm", "solver.contact=frictionless"])]
 
 with tempfile.TemporaryDirectory() as tmp:
     tmp = Path(tmp)

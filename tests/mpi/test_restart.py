@@ -258,6 +258,9 @@ with tempfile.TemporaryDirectory() as tmp:
     # against its wall (Johnson-Cook) at step 100.
     stopped_and_restarted(SRC / "decks/two_disks_mpm_2d.toml", 2, tmp / "mpm_disks", [], 200,
                           "two disks (MPM), 2 ranks, restart mid-impact")
+    stopped_and_restarted(SRC / "decks/glancing_disks_mpm_2d.toml", 3, tmp / "mpm_glancing", [],
+                          200, "glancing disks (MPM, frictionless contact), 3 ranks, restart "
+                          "mid-impact")
     stopped_and_restarted(SRC / "decks/taylor_bar_3d.toml", 2, tmp / "mpm_taylor",
                           ["run.resolution=0.4", "run.end_time=1e-5", "solver.method=mpm"], 100,
                           "Taylor bar (MPM, 3D), 2 ranks, restart mid-impact")

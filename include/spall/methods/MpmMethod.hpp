@@ -1,7 +1,8 @@
 #pragma once
 // The material point method as one step list (MpmMethod::advance reads top to bottom): ghosts
-// for the grid, P2G, the grid's update, G2P, the ghosts' new velocities, the velocity gradient
-// from the remapped grid (MUSL), density and energy, the material update, migration. The
+// for the grid, the loads (the modules' hooks: damping, a confining pressure, fixed bodies), P2G,
+// the grid's update, G2P, the ghosts' new velocities, the velocity gradient from the remapped
+// grid (MUSL), density and energy, the material update, migration. The
 // transfers are in solvers/MpmGrid, the materials the same `MaterialUpdate` SPH calls.
 #include "spall/methods/ParticleMethod.hpp"
 #include "spall/solvers/Config.hpp"
@@ -30,7 +31,8 @@ public:
 
 private:
   using Base = ParticleMethod<Dim>;
-  using Base::checkFinite, Base::materialFields, Base::balance;
+  using Base::checkFinite, Base::materialFields, Base::balance, Base::bookExternal,
+      Base::externalLoad, Base::external_;
   using Base::mpi_, Base::materials_, Base::modules_, Base::s_, Base::f_, Base::cost_,
       Base::decomposition_, Base::halo_, Base::stats_;
 
@@ -40,6 +42,7 @@ private:
   void placeOrigin();
   solvers::MpmParticles<Dim> particles();
   void idOrder();
+  void loads(double time);
   void deform(double dt);
 
   MethodSetup setup_;
@@ -47,6 +50,12 @@ private:
   bool originPlaced_ = false;
   std::unique_ptr<solvers::MpmGrid<Dim>> grid_;
   std::vector<std::size_t> haloFields_, velocityField_;
+  // Loads and supports: whether the step has any (damping, a pressure boundary, fixed bodies),
+  // the columns the ghosts need for them, and each row's "fixed" flag.
+  bool loaded_ = false;
+  std::vector<std::size_t> loadFields_;
+  std::vector<std::int32_t> fixedBodies_; // sorted
+  std::vector<std::uint8_t> rigid_;
   std::vector<std::uint32_t> order_;  // rows in id order: every node sums in it
   std::vector<Tensor<3>> L_;          // the step's velocity gradient (fluids: no L field)
   std::vector<double> work_, rhoMid_; // deform(): sigma_n : D and rho_{n+1/2} per point

@@ -3,7 +3,8 @@
 // the modified update-stress-last order of Sulsky, Zhou & Schreyer 1995 and Nairn 2003):
 //
 //   P2G   m_I = sum_p S_Ip m_p,  (mv)_I = sum_p S_Ip m_p v_p,  f_I = -sum_p V_p sigma_p grad S_Ip
-//   grid  v_I = (mv)_I / m_I,  v^L_I = v_I + dt f_I / m_I  (walls: no normal component)
+//   grid  v_I = (mv)_I / m_I,  v^L_I = v_I + dt f_I / m_I  (walls: no normal component;
+//         external forces sum_p S_Ip m_p a_p,ext in f_I; a fixed body's nodes its velocity)
 //   G2P   v_p <- flip (v_p + sum S_Ip (v^L_I - v_I)) + (1 - flip) sum S_Ip v^L_I,
 //         x_p <- x_p + dt sum S_Ip v^L_I
 //   remap v_I = sum_p S_Ip m_p v_p / m_I  (the new particle velocities: MUSL)
@@ -14,6 +15,20 @@
 // particles in the order the caller gives (particle id): a node's value is then the same on any
 // rank that holds all of its particles, whatever else the rank holds, which keeps a run's result
 // independent of the rank count. Physics only: no MPI (methods/MpmMethod sends the ghosts).
+//
+// Contact (Bardenhagen, Brackbill & Sulsky 2000, frictionless): with one velocity field the grid
+// makes bodies that share nodes move as one (no slip, Sulsky's original). With a field per
+// particle (contact groups), every node carries a mass, momentum and force per field present, and
+// where several meet, a field moving toward the others is stopped along the interface's normal:
+// with v_cm the node's centre-of-mass velocity and n_b the field's outward normal (from the
+// fields' g = sum_p V_p grad S_Ip, which points out of a field's material at its surface:
+// n_b ~ g_b - sum_{c != b} g_c),
+//   (v_b - v_cm) . n_b > 0  =>  v_b <- v_b - ((v_b - v_cm) . n_b) n_b,
+// where the fields' material fills the node's support (a gap is not a contact: MpmGrid.cpp),
+// applied to the grid velocities before the force, after it (the force acting on the corrected
+// velocity) and after the remap. The tangential part is untouched (no friction) and fields
+// moving apart are free (no tension). With two fields the normals are opposite and the
+// corrections conserve momentum exactly; with more, the node's momentum to the normals' spread.
 #include "spall/core/Types.hpp"
 #include "spall/solvers/Config.hpp"
 #include "spall/solvers/MpmShapes.hpp"
@@ -39,6 +54,18 @@ template <int Dim> struct MpmParticles {
   std::span<const double> m, rho, p, halfWidth;
   std::span<const Tensor<3>> S; // deviatoric stress; empty for fluids
   std::size_t owned = 0;
+  std::span<const std::int32_t> field; // each row's velocity field (contact group); empty: one
+  // Loads and supports (methods/MpmMethod fills them from the modules' hooks); empty: none.
+  std::span<const Vec<Dim>> aExt;      // each row's external acceleration (damping)
+  std::span<const std::uint8_t> rigid; // 1: a fixed body's point, its velocity prescribed
+  // The confining pressure P on each row's body. The stress at every node a loaded point
+  // touches is shifted by P I for all of its points (the largest P there), as SPH's force loop
+  // does (methods/modules/ConfiningPressure.hpp): a uniform stress exerts no force, so the shift
+  // acts where the node's support is cut, as the traction -P n dA, and nowhere where another
+  // body, a wall or the axis fills it. project() leaves on each owned row the P it felt and its
+  // share of the loaded area (loadArea, outward, m^2: the load on it is -P loadArea).
+  std::span<double> load;
+  std::span<Vec<Dim>> loadArea;
 };
 
 template <int Dim> class MpmGrid {
@@ -53,7 +80,7 @@ public:
   // Dim x Dim block of L; the rest zero).
   virtual void velocityGradient(const MpmParticles<Dim>& P, std::span<const std::uint32_t> order,
                                 std::span<Tensor<3>> L) = 0;
-  // Nodes touched, for the statistics (the last project()).
+  // Lattice nodes touched, for the statistics (the last project()).
   virtual std::size_t nodes() const = 0;
   // How far (per axis, m) a particle of half-width lp reaches its nodes' other particles: what
   // the halo must bring so that every node an owned particle touches is complete.

@@ -576,11 +576,13 @@ TEST_F(DeckTest, MpmTakesItsTableAndRefusesWhatItCannotDoYet) {
               "'cpdi' is not available yet");
   expectError(withLine(kDeck1D, 7, "method = \"mpm\"\nmpm = { flip = 1.5 }"), 8, 16, "in [0, 1]");
   expectError(withLine(kDeck1D, 7, "method = \"mpm\"\nmpm = { cell_size = -1.0 }"), 8, 21, ">= 0");
-  // What MPM does not do yet: an error at the place that asks for it.
-  expectError(withLine(kDeck1D, 7, "method = \"mpm\"\ncontact = \"frictionless\""), 6, 1,
-              "not available with solver.method = \"mpm\" yet");
-  expectError(withLine(withLine(kDeck1D, 7, "method = \"mpm\""), 22, "fixed = true"), 16, 1,
-              "a fixed body ('striker') is not available with solver.method = \"mpm\"");
+  // Contact: one velocity field per body (frictionless) is MPM's too.
+  EXPECT_EQ(
+      load(withLine(kDeck1D, 7, "method = \"mpm\"\ncontact = \"frictionless\"")).solver.contact,
+      spall::Contact::Frictionless);
+  // ... and fixed bodies (their grid nodes move at their velocity).
+  EXPECT_TRUE(
+      load(withLine(withLine(kDeck1D, 7, "method = \"mpm\""), 22, "fixed = true")).bodies[0].fixed);
 }
 
 TEST_F(DeckTest, StrengthModelsNeedTheirParameters) {

@@ -18,6 +18,22 @@ using namespace spall::solvers;
 
 namespace {
 
+// The transfers' view of a test's particle arrays (no contact, loads or supports).
+template <int Dim>
+MpmParticles<Dim> points(std::span<Vec<Dim>> x, std::span<Vec<Dim>> v, std::span<Vec<Dim>> a,
+                         std::span<const double> m, std::span<const double> rho,
+                         std::span<const double> p, std::span<const double> lp,
+                         std::span<const Tensor<3>> S, std::size_t owned) {
+  MpmParticles<Dim> P;
+  P.x = x, P.v = v, P.a = a, P.m = m, P.rho = rho, P.p = p, P.halfWidth = lp, P.S = S;
+  P.owned = owned;
+  return P;
+}
+
+} // namespace
+
+namespace {
+
 // Sum S = 1, sum S X = x, sum grad S = 0, sum X (x) grad S = I: what a transfer needs to carry
 // a constant and a linear field exactly. Tolerances: sums of up to 27 terms of order 1 (and
 // positions of order 10 cells), so 1e-13 relative is a few ulps.
@@ -159,7 +175,7 @@ Result step(const Cloud& all, const std::vector<std::size_t>& rows, std::size_t 
   std::iota(order.begin(), order.end(), 0u);
   std::sort(order.begin(), order.end(), [&](auto a, auto b) { return c.id[a] < c.id[b]; });
   auto grid = makeMpmGrid<2>(config, Vec<2>(0.0, 0.0), {});
-  MpmParticles<2> P{c.x, c.v, c.a, c.m, c.rho, c.p, c.lp, c.S, owned};
+  auto P = points<2>(c.x, c.v, c.a, c.m, c.rho, c.p, c.lp, c.S, owned);
   grid->project(P, order, 0.01);
   std::vector<Tensor<3>> L(owned);
   grid->velocityGradient(P, order, L);
@@ -241,7 +257,7 @@ TEST(MpmGrid, AnOwnedPointsStepIgnoresEverythingBeyondTheHaloAndTheRowOrder) {
     std::iota(order.begin(), order.end(), 0u);
     std::sort(order.begin(), order.end(), [&](auto i, auto j) { return id[i] < id[j]; });
     auto grid = makeMpmGrid<2>(config, Vec<2>::Zero(), {});
-    MpmParticles<2> P{x, v, a, m, rho, p, lp, S, owned.size()};
+    auto P = points<2>(x, v, a, m, rho, p, lp, S, owned.size());
     grid->project(P, order, 0.01);
     for (std::size_t k = 0; k < owned.size(); ++k) {
       const std::size_t fullRow = c.x.size() - 1 - owned[k]; // `all` is reversed
@@ -268,9 +284,90 @@ TEST(MpmGrid, WallNodesKeepNoNormalVelocity) {
   std::vector<std::uint32_t> order{0, 1, 2};
   const MpmConfig config{1.0, MpmShape::Gimp, 0.0, {}};
   auto grid = makeMpmGrid<1>(config, Vec<1>::Zero(), {GridWall<1>{Vec<1>(0.0), Vec<1>(1.0)}});
-  MpmParticles<1> P{x, v, a, m, rho, p, lp, {}, 3};
+  auto P = points<1>(x, v, a, m, rho, p, lp, {}, 3);
   grid->project(P, order, 0.01);
   EXPECT_LT(v[0][0], 0.0);
   EXPECT_GE(v[0][0], -1.0 / 16.0 - 1e-15);
   EXPECT_GE(x[0][0], -0.01 / 16.0 - 1e-15);
+}
+
+namespace {
+
+// Two 2D blocks of 2 x 2 points per cell (cells of 1, GIMP, stress-free, PIC), the lower
+// y in [0, 2) and the upper y in [2 + gap, 4 + gap), both x in [0, 4), each with its own velocity;
+// fields 0 and 1 when `contact`, one field otherwise. One step; the points' new velocities.
+std::vector<Vec<2>> stepTwoBlocks(const Vec<2>& vLower, const Vec<2>& vUpper, double gap,
+                                  bool contact) {
+  std::vector<Vec<2>> x, v, a;
+  std::vector<double> m, rho, p, lp;
+  std::vector<std::int32_t> field;
+  for (int block = 0; block < 2; ++block)
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 8; ++i) {
+        x.emplace_back(0.25 + 0.5 * i, 0.25 + 0.5 * j + (block == 1 ? 2.0 + gap : 0.0));
+        v.push_back(block == 0 ? vLower : vUpper);
+        a.push_back(Vec<2>::Zero());
+        m.push_back(0.25);
+        rho.push_back(1.0);
+        p.push_back(0.0);
+        lp.push_back(0.25);
+        field.push_back(block);
+      }
+  std::vector<std::uint32_t> order(x.size());
+  std::iota(order.begin(), order.end(), 0u);
+  const MpmConfig config{1.0, MpmShape::Gimp, 0.0, {}};
+  auto grid = makeMpmGrid<2>(config, Vec<2>::Zero(), {});
+  auto P = points<2>(x, v, a, m, rho, p, lp, {}, x.size());
+  if (contact) P.field = field;
+  grid->project(P, order, 0.01);
+  return {v.begin(), v.end()};
+}
+
+} // namespace
+
+TEST(MpmGridContact, FieldsSlideWithoutFriction) {
+  // The blocks touch along y = 2 and slide past each other at +-1 along x: frictionless contact
+  // passes no shear, so every point keeps its velocity (each field's nodes hold its own uniform
+  // velocity; round-off of a weighted mean, 1e-14). One field (no-slip) mixes the two at the
+  // shared nodes: the layers next to the interface slow down (the contrast shows the test bites).
+  const auto frictionless = stepTwoBlocks(Vec<2>(1.0, 0.0), Vec<2>(-1.0, 0.0), 0.0, true);
+  for (std::size_t k = 0; k < frictionless.size(); ++k) {
+    EXPECT_NEAR(frictionless[k][0], k < 32 ? 1.0 : -1.0, 1e-14) << k;
+    EXPECT_NEAR(frictionless[k][1], 0.0, 1e-14) << k;
+  }
+  const auto welded = stepTwoBlocks(Vec<2>(1.0, 0.0), Vec<2>(-1.0, 0.0), 0.0, false);
+  double slowest = 1.0;
+  for (const auto& v : welded) slowest = std::min(slowest, std::abs(v[0]));
+  EXPECT_LT(slowest, 0.5);
+}
+
+TEST(MpmGridContact, ApproachStopsAtTheInterfaceAndConservesMomentum) {
+  // The blocks touch and close at +-1 along y: at the interface nodes both fields' normal
+  // velocities become the centre of mass's (0), so the points next to it slow down; the total
+  // momentum stays 0 (two fields: opposite normals, 1e-14 of sum |m v|), and no point speeds up.
+  const auto v = stepTwoBlocks(Vec<2>(0.0, 1.0), Vec<2>(0.0, -1.0), 0.0, true);
+  Vec<2> momentum = Vec<2>::Zero();
+  double slowest = 1.0;
+  for (const auto& u : v) {
+    momentum += 0.25 * u;
+    slowest = std::min(slowest, std::abs(u[1]));
+    EXPECT_LE(std::abs(u[1]), 1.0 + 1e-14);
+    EXPECT_NEAR(u[0], 0.0, 1e-14);
+  }
+  EXPECT_LT(momentum.norm(), 1e-14 * 16.0);
+  EXPECT_LT(slowest, 0.5);
+}
+
+TEST(MpmGridContact, AGapIsNotAContact) {
+  // The same approach with a cell between the blocks: their GIMP supports still share the nodes
+  // of the gap, but no node there is covered by material, so neither field is stopped: every
+  // point keeps its velocity (1e-14). A gap of 0.1 cell is a contact (the nodes at the
+  // interface are 90% covered or more): the interface layers slow down.
+  const auto apart = stepTwoBlocks(Vec<2>(0.0, 1.0), Vec<2>(0.0, -1.0), 1.0, true);
+  for (std::size_t k = 0; k < apart.size(); ++k)
+    EXPECT_NEAR(apart[k][1], k < 32 ? 1.0 : -1.0, 1e-14) << k;
+  const auto close = stepTwoBlocks(Vec<2>(0.0, 1.0), Vec<2>(0.0, -1.0), 0.1, true);
+  double slowest = 1.0;
+  for (const auto& u : close) slowest = std::min(slowest, std::abs(u[1]));
+  EXPECT_LT(slowest, 0.9);
 }

@@ -19,6 +19,7 @@
 // and the method books it (externalPower) so that the conservation line stays meaningful.
 // `surface_area` is each particle's share of the free surface, outward: -m_i G_i (m^2; a ring's
 // area in rz, per unit thickness in 2D), so the load is -P surface_area.
+// MPM makes the same shift on its grid, node by node (solvers/MpmGrid.hpp, MpmParticles::load).
 #include "spall/methods/Module.hpp"
 
 #include <utility>

@@ -2,7 +2,7 @@
 // Bodies with `fixed = true` have no acceleration: the leapfrog keeps their velocity, zero (a
 // clamp, which stays where it is) or the body's uniform `velocity` (a piston driven at it). They
 // still carry density, stress and energy, and the forces they exert on the rest are the reaction of
-// the support.
+// the support. MPM: the grid nodes they weigh on move at their velocity (solvers/MpmGrid).
 #include "spall/methods/Module.hpp"
 
 #include <algorithm>

@@ -3,7 +3,8 @@
 // off: a target is brought to its confining pressure and settles, and the shot follows in the
 // same run. c dt is ~1e-3 in practice (c = 7.5e4/s, dt ~ 1e-8 s), far inside the explicit
 // bound c dt < 2. The energy it takes out is booked as external work (externalPower).
-// Fixed bodies keep their prescribed velocity: they are not damped.
+// Fixed bodies keep their prescribed velocity: they are not damped. MPM takes the same a = -c v
+// as a node force (methods/MpmMethod::loads).
 #include "spall/methods/Module.hpp"
 
 #include <algorithm>
