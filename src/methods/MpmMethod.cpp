@@ -116,9 +116,9 @@ template <int Dim> void MpmMethod<Dim>::advance(double dt, std::int64_t step, do
   stats_.phases.time(kForces, [&] { grid_->project(P, order_, dt); });
   if (loaded_) {
     // The loads act through the whole step as the state at t_n set them (not the leapfrog's
-    // two half-kicks): the step's work is dt times their power, with the points' new velocities.
-    external_ = externalLoad(time);
-    bookExternal(dt, external_);
+    // two half-kicks): the step's work is dt times their power, with the points' new
+    // velocities (damping: -c m v_n+1 . v_n+1 for -c m v_n . v, an error of order c dt).
+    bookExternalStep(dt, externalLoad(time));
   }
   stats_.phases.time(kExchange, [&] { halo_.refresh(s_, velocityField_); });
   const std::size_t n = s_.localCount();
@@ -157,9 +157,9 @@ template <int Dim> void MpmMethod<Dim>::loads(double time) {
   if (fixedBodies_.empty()) return;
   const std::size_t rows = n + halo_.ghosts();
   const auto body = s_[f_.body];
-  rigid_.resize(rows);
+  fixedRow_.resize(rows);
   for (std::size_t r = 0; r < rows; ++r)
-    rigid_[r] = std::binary_search(fixedBodies_.begin(), fixedBodies_.end(), body[r]) ? 1 : 0;
+    fixedRow_[r] = std::binary_search(fixedBodies_.begin(), fixedBodies_.end(), body[r]) ? 1 : 0;
 }
 
 // Density and energy with the step's velocity gradient, then the materials: rho_{n+1} = rho_n /
@@ -265,7 +265,7 @@ template <int Dim> solvers::MpmParticles<Dim> MpmMethod<Dim>::particles() {
   // contact "frictionless" or "auto": a velocity field per contact group (solvers/MpmGrid).
   if (f_.contactGroup.valid()) P.field = s_[f_.contactGroup].first(rows);
   if (loaded_) P.aExt = s_[f_.a].first(rows);
-  if (!fixedBodies_.empty()) P.rigid = rigid_;
+  if (!fixedBodies_.empty()) P.rigid = fixedRow_;
   if (f_.confiningPressure.valid()) {
     P.load = s_[f_.confiningPressure].first(rows);
     P.loadArea = s_[f_.surfaceArea].first(P.owned);

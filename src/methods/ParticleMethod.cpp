@@ -94,6 +94,12 @@ template <int Dim> void ParticleMethod<Dim>::bookExternal(double dt, const Exter
   external_ = now;
 }
 
+template <int Dim> void ParticleMethod<Dim>::bookExternalStep(double dt, const ExternalLoad& load) {
+  externalWork_ += dt * load.power;
+  for (std::size_t d = 0; d < 3; ++d) externalImpulse_[d] += dt * load.force[d];
+  external_ = load;
+}
+
 template <int Dim> materials::MaterialFields ParticleMethod<Dim>::materialFields() {
   const std::size_t n = s_.localCount();
   materials::MaterialFields mf;

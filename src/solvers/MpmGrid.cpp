@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 
 namespace spall::solvers {
@@ -11,6 +12,7 @@ namespace {
 
 // Contact acts at a node whose support this fraction of material fills (contact()).
 constexpr double kCovered = 0.9;
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max(); // the end of a list
 
 template <int Dim, MpmShape Shape> class Grid final : public MpmGrid<Dim> {
   static constexpr int K = mpm::kNodesPerParticle<Shape, Dim>;
@@ -37,8 +39,8 @@ public:
     mass_.assign(N, 0.0);
     momentum_.assign(N, Vec<Dim>::Zero());
     force_.assign(N, Vec<Dim>::Zero());
-    if (multi_) normal_.assign(N, Vec<Dim>::Zero()), volume_.assign(N, 0.0);
-    if (loaded) area_.assign(N, Vec<Dim>::Zero());
+    if (multi_) gradV_.assign(N, Vec<Dim>::Zero()), volume_.assign(N, 0.0);
+    if (loaded) area_.assign(key_.size(), Vec<Dim>::Zero());
     if (rigid)
       rigid_.assign(N, 0), rigidV_.assign(N, Vec<Dim>::Zero());
     else
@@ -52,28 +54,35 @@ public:
       // rz: the hoop stress's share of the radial force, sigma_tt S / r (the weak form's
       // 2 pi r dA is in the ring's mass and volume).
       Vec<Dim> hoop = Vec<Dim>::Zero();
-      if (rz_) hoop[0] = ((solid ? P.S[r](2, 2) : 0.0) - P.p[r]) / radius(P, r);
+      const double rp = rz_ ? radius(P, r) : 1.0;
+      if (rz_) hoop[0] = ((solid ? P.S[r](2, 2) : 0.0) - P.p[r]) / rp;
       for (int q = 0; q < K; ++q) {
         const std::size_t e = r * K + static_cast<std::size_t>(q);
         const std::uint32_t I = node_[e];
         mass_[I] += S_[e] * P.m[r];
         momentum_[I] += S_[e] * mv;
         force_[I] -= V * (sigma * grad_[e] + S_[e] * hoop);
-        if (multi_) normal_[I] += V * grad_[e], volume_[I] += S_[e] * V;
+        if (multi_) gradV_[I] += V * grad_[e], volume_[I] += S_[e] * V;
         if (external) force_[I] += (S_[e] * P.m[r]) * P.aExt[r];
-        if (loaded && nodeLoad_[lattice(I)] > 0.0) {
-          // The shift sigma + P_I I, with its hoop part in rz: the load's traction.
-          Vec<Dim> g = grad_[e];
-          if (rz_) g[0] += S_[e] / radius(P, r);
-          area_[I] += V * g;
-          force_[I] -= (V * nodeLoad_[lattice(I)]) * g;
+        if (loaded) {
+          // The load's area at the node: the shift sigma + P_I I's force is -P_I of it (with
+          // its hoop part in rz), summed over every field there (applyLoads).
+          const std::size_t L = lattice(I);
+          if (nodeLoad_[L] > 0.0) {
+            Vec<Dim> g = grad_[e];
+            if (rz_) g[0] += S_[e] / rp;
+            area_[L] += V * g;
+          }
         }
         if (rigid && P.rigid[r] && S_[e] > 0.0 && !rigid_[I]) rigid_[I] = 1, rigidV_[I] = P.v[r];
       }
     }
+    if (loaded) applyLoads();
     // The grid's velocities before and after the step's forces (with contact, each corrected:
     // the force acts on the contact-corrected velocity); contact and walls take the normal part
-    // of both, so the FLIP increment carries the constraint too.
+    // of both, so the FLIP increment vL - v carries what acts after the force, not the
+    // correction before it (as Uintah and NairnMPM: the points keep their approach, which the
+    // remap's correction takes out of L).
     velocity_.assign(N, Vec<Dim>::Zero());
     increment_.assign(N, Vec<Dim>::Zero());
     for (std::size_t I = 0; I < N; ++I)
@@ -89,11 +98,7 @@ public:
       constrain(I, velocity_[I]);
       increment_[I] = velocity_[I] - increment_[I];
     }
-    if (loaded) {
-      // A wall (or the rz axis) takes the normal part of the load on its nodes: no face there.
-      for (std::size_t I = 0; I < N; ++I) constrain(I, area_[I]);
-      shareLoads(P);
-    }
+    if (loaded) shareLoads(P);
     // G2P on the owned rows (rz: their radii at the step's start kept for the hoop rate).
     if (rz_) {
       radius_.resize(P.owned);
@@ -186,7 +191,12 @@ private:
       }
     }
     key_.clear();
-    if (rows == 0) return;
+    multi_ = !P.field.empty();
+    if (rows == 0) {
+      site_.clear();
+      head_.clear();
+      return;
+    }
     double boxSize = 1.0;
     for (int a = 0; a < Dim; ++a)
       boxSize *= static_cast<double>(hi[static_cast<std::size_t>(a)] -
@@ -196,7 +206,6 @@ private:
       numberDense(rows, lo, hi, static_cast<std::size_t>(boxSize));
     else
       numberSorted(rows);
-    multi_ = !P.field.empty();
     if (multi_) numberFields(P, rows);
   }
 
@@ -204,8 +213,7 @@ private:
   // form a list in ascending field, so the contact sums over them run in the same order on
   // every rank.
   void numberFields(const MpmParticles<Dim>& P, std::size_t rows) {
-    constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
-    head_.assign(key_.size(), none);
+    head_.assign(key_.size(), kNone);
     site_.clear();
     fieldOf_.clear();
     next_.clear();
@@ -214,14 +222,14 @@ private:
       for (int q = 0; q < K; ++q) {
         std::uint32_t& I = node_[r * K + static_cast<std::size_t>(q)];
         // Walk the node's list to the first pair of field >= b (by index: next_ grows below).
-        std::uint32_t before = none, at = head_[I];
-        while (at != none && fieldOf_[at] < b) before = at, at = next_[at];
-        if (at == none || fieldOf_[at] != b) {
+        std::uint32_t before = kNone, at = head_[I];
+        while (at != kNone && fieldOf_[at] < b) before = at, at = next_[at];
+        if (at == kNone || fieldOf_[at] != b) {
           const auto fresh = static_cast<std::uint32_t>(site_.size());
           site_.push_back(I);
           fieldOf_.push_back(b);
           next_.push_back(at);
-          (before == none ? head_[I] : next_[before]) = fresh;
+          (before == kNone ? head_[I] : next_[before]) = fresh;
           at = fresh;
         }
         I = at;
@@ -245,18 +253,42 @@ private:
     }
   }
 
+  // The loads on the nodes: at a lattice node of load P_I and area A_I (a wall's or the rz
+  // axis's normal part taken by its constraint: no face there), the force -P_I A_I, shared by
+  // the fields there by mass (one field: all of it). Per field, each field's own area would
+  // pull bodies in contact apart with the traction P: the node's sum is what cancels where
+  // another body fills the support.
+  void applyLoads() {
+    nodeMass_.assign(key_.size(), 0.0);
+    for (std::size_t L = 0; L < key_.size(); ++L) {
+      constrainAt(key_[L], area_[L]);
+      if (!multi_) {
+        nodeMass_[L] = mass_[L];
+        continue;
+      }
+      for (std::uint32_t b = head_[L]; b != kNone; b = next_[b]) nodeMass_[L] += mass_[b];
+    }
+    for (std::size_t I = 0; I < fields(); ++I) {
+      const std::size_t L = lattice(I);
+      if (nodeLoad_[L] > 0.0 && nodeMass_[L] > 0.0)
+        force_[I] -= (nodeLoad_[L] * mass_[I] / nodeMass_[L]) * area_[L];
+    }
+  }
+
   // The owned rows' share of their nodes' loads, by mass (what the books and the snapshots
-  // show): F_p = sum_I S_Ip m_p / m_I (-P_I A_I), P_p the largest P_I, loadArea = -F_p / P_p.
+  // show): F_p = sum_I S_Ip m_p / M_I (-P_I A_I), P_p the largest P_I, loadArea = -F_p / P_p. A
+  // fixed body's nodes discard their force: no share there.
   void shareLoads(const MpmParticles<Dim>& P) {
     for (std::size_t r = 0; r < P.owned; ++r) {
       Vec<Dim> F = Vec<Dim>::Zero();
       double Pp = 0.0;
       for (int q = 0; q < K; ++q) {
         const std::size_t e = r * K + static_cast<std::size_t>(q);
-        const std::uint32_t I = node_[e];
-        const double PI = nodeLoad_[lattice(I)];
-        if (!(PI > 0.0) || !(mass_[I] > 0.0) || !(S_[e] > 0.0)) continue;
-        F -= (S_[e] * P.m[r] / mass_[I] * PI) * area_[I];
+        const std::size_t L = lattice(node_[e]);
+        const double PI = nodeLoad_[L];
+        if (!(PI > 0.0) || !(nodeMass_[L] > 0.0) || !(S_[e] > 0.0)) continue;
+        if (!rigid_.empty() && rigid_[node_[e]]) continue;
+        F -= (S_[e] * P.m[r] / nodeMass_[L] * PI) * area_[L];
         Pp = std::max(Pp, PI);
       }
       P.load[r] = Pp;
@@ -279,29 +311,28 @@ private:
   // supports overlap across the gap), and the early stop of the surface layers, released as
   // they part, gave the colliding disks +6% of energy; with it, +1.7% at most (decks/README).
   void contact(std::vector<Vec<Dim>>& v) const {
-    constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
     for (std::size_t I = 0; I < key_.size(); ++I) {
       const std::uint32_t first = head_[I];
-      if (next_[first] == none) continue; // one field: nothing to correct
+      if (next_[first] == kNone) continue; // one field: nothing to correct
       double M = 0.0;
       Vec<Dim> mv = Vec<Dim>::Zero(), G = Vec<Dim>::Zero();
-      for (std::uint32_t b = first; b != none; b = next_[b]) {
+      for (std::uint32_t b = first; b != kNone; b = next_[b]) {
         M += mass_[b];
         mv += mass_[b] * v[b];
-        G += normal_[b];
+        G += gradV_[b];
       }
       if (!(M > 0.0)) continue;
       double V = 0.0;
-      for (std::uint32_t b = first; b != none; b = next_[b]) V += volume_[b];
+      for (std::uint32_t b = first; b != kNone; b = next_[b]) V += volume_[b];
       if (V < kCovered * capacity(I)) continue; // a gap: the fields only approach
       // A fixed body at the node is the reference (infinite mass) and is not corrected.
       Vec<Dim> vcm = mv / M;
-      std::uint32_t held = none;
+      std::uint32_t held = kNone;
       if (!rigid_.empty())
-        for (std::uint32_t b = first; b != none && held == none; b = next_[b])
+        for (std::uint32_t b = first; b != kNone && held == kNone; b = next_[b])
           if (rigid_[b]) held = b, vcm = v[b];
-      for (std::uint32_t b = first; b != none; b = next_[b]) {
-        Vec<Dim> n = 2.0 * normal_[b] - G;
+      for (std::uint32_t b = first; b != kNone; b = next_[b]) {
+        Vec<Dim> n = 2.0 * gradV_[b] - G;
         const double length = n.norm();
         if (b == held || !(mass_[b] > 0.0) || !(length > 0.0)) continue;
         n /= length;
@@ -354,17 +385,26 @@ private:
   }
 
   // A node's support volume, what material filling it maps there: hc^Dim; in rz (rings)
-  // 2 pi hc^2 r_I, and 2 pi hc^2 hc / 6 on the axis (the tent's moment there).
-  double capacity(std::size_t I) const {
+  // 2 pi hc^2 r_I, and 2 pi hc^2 hc / 6 on the axis (the tent's moment there); half of it for
+  // each wall plane the node lies on (no material behind a wall: two bodies sliding along a
+  // symmetry plane still meet there).
+  double capacity(std::size_t L) const {
     const double hc = c_.cell_size;
-    if (!rz_) return std::pow(hc, Dim);
-    const double r = origin_[0] + static_cast<double>(key_[I][0]) * hc;
-    return 2.0 * M_PI * hc * hc * std::max(r, hc / 6.0);
+    Vec<Dim> X;
+    for (int a = 0; a < Dim; ++a)
+      X[a] = origin_[a] + static_cast<double>(key_[L][static_cast<std::size_t>(a)]) * hc;
+    double C =
+        rz_ ? 2.0 * std::numbers::pi * hc * hc * std::max(X[0], hc / 6.0) : std::pow(hc, Dim);
+    for (const auto& w : walls_) {
+      const bool axis = rz_ && w.normal[0] != 0.0 && std::abs(w.point[0]) <= 1e-9 * hc;
+      if (!axis && std::abs((X - w.point).dot(w.normal)) <= 1e-9 * hc) C *= 0.5;
+    }
+    return C;
   }
 
-  void constrain(std::size_t I, Vec<Dim>& v) const {
+  void constrain(std::size_t I, Vec<Dim>& v) const { constrainAt(key_[lattice(I)], v); }
+  void constrainAt(const Key& k, Vec<Dim>& v) const {
     if (walls_.empty()) return;
-    const Key& k = key_[multi_ ? site_[I] : I];
     Vec<Dim> X;
     for (int a = 0; a < Dim; ++a)
       X[a] = origin_[a] + static_cast<double>(k[static_cast<std::size_t>(a)]) * c_.cell_size;
@@ -392,9 +432,9 @@ private:
   std::vector<std::int32_t> fieldOf_;
   // Per node (with contact, per (node, field) pair).
   std::vector<double> mass_, volume_;
-  std::vector<Vec<Dim>> momentum_, force_, velocity_, increment_, normal_;
-  // Loads: per lattice node its P; per node the loaded area sum_p V_p grad S_Ip (+ rz hoop).
-  std::vector<double> nodeLoad_;
+  std::vector<Vec<Dim>> momentum_, force_, velocity_, increment_, gradV_;
+  // Loads, per lattice node: P, the loaded area sum_p V_p grad S_Ip (+ rz hoop), the mass.
+  std::vector<double> nodeLoad_, nodeMass_;
   std::vector<Vec<Dim>> area_;
   // Fixed bodies: per node whether one weighs on it, and its velocity.
   std::vector<std::uint8_t> rigid_;

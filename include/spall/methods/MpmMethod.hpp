@@ -32,7 +32,7 @@ public:
 private:
   using Base = ParticleMethod<Dim>;
   using Base::checkFinite, Base::materialFields, Base::balance, Base::bookExternal,
-      Base::externalLoad, Base::external_;
+      Base::externalLoad, Base::bookExternalStep;
   using Base::mpi_, Base::materials_, Base::modules_, Base::s_, Base::f_, Base::cost_,
       Base::decomposition_, Base::halo_, Base::stats_;
 
@@ -55,10 +55,10 @@ private:
   bool loaded_ = false;
   std::vector<std::size_t> loadFields_;
   std::vector<std::int32_t> fixedBodies_; // sorted
-  std::vector<std::uint8_t> rigid_;
-  std::vector<std::uint32_t> order_;  // rows in id order: every node sums in it
-  std::vector<Tensor<3>> L_;          // the step's velocity gradient (fluids: no L field)
-  std::vector<double> work_, rhoMid_; // deform(): sigma_n : D and rho_{n+1/2} per point
+  std::vector<std::uint8_t> fixedRow_;    // per row (owned and ghosts): a fixed body's point
+  std::vector<std::uint32_t> order_;      // rows in id order: every node sums in it
+  std::vector<Tensor<3>> L_;              // the step's velocity gradient (fluids: no L field)
+  std::vector<double> work_, rhoMid_;     // deform(): sigma_n : D and rho_{n+1/2} per point
   std::vector<double> reach_;
   std::vector<Vec<Dim>> boxReach_;
 };

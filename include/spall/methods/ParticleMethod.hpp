@@ -66,6 +66,8 @@ protected:
 
   ExternalLoad externalLoad(double time) const; // all ranks
   void bookExternal(double dt, const ExternalLoad& now);
+  // A method whose loads act through the whole step from one state (MPM): dt times their load.
+  void bookExternalStep(double dt, const ExternalLoad& load);
   materials::MaterialFields materialFields();
   void checkFinite(std::int64_t step, double time) const;
   // Measures the imbalance of the cost and re-cuts the key axis when due; the pairs (CSR, the

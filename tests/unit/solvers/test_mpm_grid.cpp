@@ -297,7 +297,7 @@ namespace {
 // y in [0, 2) and the upper y in [2 + gap, 4 + gap), both x in [0, 4), each with its own velocity;
 // fields 0 and 1 when `contact`, one field otherwise. One step; the points' new velocities.
 std::vector<Vec<2>> stepTwoBlocks(const Vec<2>& vLower, const Vec<2>& vUpper, double gap,
-                                  bool contact) {
+                                  bool contact, double pressure = 0.0, bool loaded = false) {
   std::vector<Vec<2>> x, v, a;
   std::vector<double> m, rho, p, lp;
   std::vector<std::int32_t> field;
@@ -309,7 +309,7 @@ std::vector<Vec<2>> stepTwoBlocks(const Vec<2>& vLower, const Vec<2>& vUpper, do
         a.push_back(Vec<2>::Zero());
         m.push_back(0.25);
         rho.push_back(1.0);
-        p.push_back(0.0);
+        p.push_back(pressure);
         lp.push_back(0.25);
         field.push_back(block);
       }
@@ -319,6 +319,10 @@ std::vector<Vec<2>> stepTwoBlocks(const Vec<2>& vLower, const Vec<2>& vUpper, do
   auto grid = makeMpmGrid<2>(config, Vec<2>::Zero(), {});
   auto P = points<2>(x, v, a, m, rho, p, lp, {}, x.size());
   if (contact) P.field = field;
+  // Both blocks loaded with their own pressure (a confining pressure at equilibrium).
+  std::vector<double> load(loaded ? x.size() : 0, pressure);
+  std::vector<Vec<2>> area(load.size());
+  if (loaded) P.load = load, P.loadArea = area;
   grid->project(P, order, 0.01);
   return {v.begin(), v.end()};
 }
@@ -359,15 +363,42 @@ TEST(MpmGridContact, ApproachStopsAtTheInterfaceAndConservesMomentum) {
 }
 
 TEST(MpmGridContact, AGapIsNotAContact) {
-  // The same approach with a cell between the blocks: their GIMP supports still share the nodes
-  // of the gap, but no node there is covered by material, so neither field is stopped: every
-  // point keeps its velocity (1e-14). A gap of 0.1 cell is a contact (the nodes at the
-  // interface are 90% covered or more): the interface layers slow down.
-  const auto apart = stepTwoBlocks(Vec<2>(0.0, 1.0), Vec<2>(0.0, -1.0), 1.0, true);
+  // The same approach with half a cell between the blocks: both fields weigh on the nodes of
+  // the gap (GIMP's supports reach 1.25 cells), but material covers about 75% of their support,
+  // so neither field is stopped: every point keeps its velocity (1e-14). A gap of 0.1 cell is a
+  // contact (the nodes at the interface are 90% covered or more): the interface layers slow down.
+  const auto apart = stepTwoBlocks(Vec<2>(0.0, 1.0), Vec<2>(0.0, -1.0), 0.5, true);
   for (std::size_t k = 0; k < apart.size(); ++k)
     EXPECT_NEAR(apart[k][1], k < 32 ? 1.0 : -1.0, 1e-14) << k;
   const auto close = stepTwoBlocks(Vec<2>(0.0, 1.0), Vec<2>(0.0, -1.0), 0.1, true);
   double slowest = 1.0;
   for (const auto& u : close) slowest = std::min(slowest, std::abs(u[1]));
   EXPECT_LT(slowest, 0.9);
+}
+
+TEST(MpmGridContact, AConfiningPressureDoesNotPullTouchingBodiesApart) {
+  // Two touching blocks (8 x 4 points each, one above the other), each its own field, both at
+  // p = P and both loaded with P: a body in equilibrium with its confinement. The load acts on
+  // the node's whole material, so at the interface nodes it cancels (another body fills the
+  // support) and on the free faces it holds the pressure: the points away from the interface's
+  // two rims do not move (1e-12 of the speed P dt / (rho hc) an unloaded face gains), and no
+  // point moves away from the other block. (With each field's own area the interface would pull
+  // the blocks apart at that speed.) At the rims, where the interface meets the free faces,
+  // material fills less than 90% of the nodes' support, so contact waits there and the two
+  // pressures push the corners into each other until it does (decks/README.md: the surfaces
+  // overlap by up to a third of a cell).
+  const double P = 1.0e3, scale = P * 0.01 / (1.0 * 1.0);
+  const auto v = stepTwoBlocks(Vec<2>::Zero(), Vec<2>::Zero(), 0.0, true, P, true);
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    const std::size_t i = k % 8; // column
+    if (i >= 2 && i <= 5) {
+      EXPECT_LT(v[k].norm(), 1e-12 * scale) << k;
+    }
+    EXPECT_GT((k < 32 ? 1.0 : -1.0) * v[k][1], -1e-12 * scale) << k; // never apart
+  }
+  // Unloaded, the same blocks' free faces move out at about that speed (the contrast).
+  const auto free = stepTwoBlocks(Vec<2>::Zero(), Vec<2>::Zero(), 0.0, true, P, false);
+  double fastest = 0.0;
+  for (const auto& u : free) fastest = std::max(fastest, u.norm());
+  EXPECT_GT(fastest, 0.1 * scale);
 }

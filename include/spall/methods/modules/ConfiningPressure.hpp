@@ -53,7 +53,8 @@ public:
     f.confiningPressure = s.add<double>("confining_pressure", kOutput | kCheckpoint);
     f.surfaceArea = s.add<Vec<Dim>>("surface_area", kOutput | kCheckpoint);
   }
-  // P of each owned particle's body at the time of the force evaluation (0: not loaded).
+  // P of each owned particle's body at the time of the force evaluation (0: not loaded). MPM
+  // then leaves the load its nodes felt, whichever body's (solvers/MpmGrid.hpp).
   void beforeRates(ParticleStore& s, const ParticleFields<Dim>& f, double time) const override {
     const auto body = s[f.body];
     const auto P = s[f.confiningPressure];
