@@ -262,7 +262,7 @@ template <int Dim> solvers::MpmParticles<Dim> MpmMethod<Dim>::particles() {
   P.halfWidth = s_[f_.halfWidth].first(rows);
   if (f_.hasStrength()) P.S = s_[f_.S].first(rows);
   P.owned = s_.localCount();
-  // contact "frictionless" or "auto": a velocity field per contact group (solvers/MpmGrid).
+  // contact "frictionless": a velocity field per body (solvers/MpmGrid; "auto" is one field).
   if (f_.contactGroup.valid()) P.field = s_[f_.contactGroup].first(rows);
   if (loaded_) P.aExt = s_[f_.a].first(rows);
   if (!fixedBodies_.empty()) P.rigid = fixedRow_;

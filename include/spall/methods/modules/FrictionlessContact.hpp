@@ -1,7 +1,7 @@
 #pragma once
 // contact = "frictionless" or "auto": across a contact-group boundary SPH's force loop transmits
 // compression only (no tension, no shear), so it needs each neighbor's group, ghosts included;
-// MPM gives each group its own velocity field on the grid (solvers/MpmGrid).
+// MPM (contact = "frictionless" only) gives each group its own velocity field on the grid.
 // The groups are set where the bodies are made (app/BodyGenerator: every rank sees every body).
 #include "spall/methods/Module.hpp"
 
