@@ -179,8 +179,8 @@ std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck
   const bool mpm = solver.method == "mpm"; // no pair loop: no viscosity, correction, contact
   list.push_back(std::make_unique<methods::Hydro<Dim>>());
   if (mpm)
-    list.push_back(
-        std::make_unique<methods::MaterialPoints<Dim>>(deck.run.geometry == Geometry::RZ));
+    list.push_back(std::make_unique<methods::MaterialPoints<Dim>>(
+        deck.run.geometry == Geometry::RZ, solver.mpm.shape == MpmShape::Cpdi));
   if (solver.artificial_viscosity.balsara && !mpm)
     list.push_back(std::make_unique<methods::BalsaraSwitch<Dim>>());
   if (solids)
@@ -282,7 +282,10 @@ std::string methodSummary(const Deck& deck) {
   if (s.method == "mpm") {
     const auto m = methodSetup(deck).solver.mpm;
     return fmt::format("mpm {} cell {:.4g} m flip {:g}",
-                       m.shape == MpmShape::Linear ? "linear" : "gimp", m.cell_size, m.flip);
+                       m.shape == MpmShape::Linear ? "linear"
+                       : m.shape == MpmShape::Cpdi ? "cpdi"
+                                                   : "gimp",
+                       m.cell_size, m.flip);
   }
   return fmt::format("{} {} n_h {:g} | density {}", s.method, kernelName(s.kernel), s.nodes_per_h,
                      densityName(s.density));

@@ -39,20 +39,36 @@ double fieldValue(const ProbeField& pf, const ParticleStore& s, const ParticleFi
   case ProbeField::Kind::SmoothingLength:
     return s[f.h][i];
   case ProbeField::Kind::Column: {
+    // b: the component, at its place in the particle's row of the snapshot array.
     const ColumnBase& c = *s.columns()[static_cast<std::size_t>(pf.a)];
     if (c.info().scalar == ScalarType::I32) return static_cast<const std::int32_t*>(c.raw())[i];
     if (c.info().scalar == ScalarType::I64)
       return static_cast<double>(static_cast<const std::int64_t*>(c.raw())[i]);
-    return static_cast<const double*>(c.raw())[i];
+    return static_cast<const double*>(
+        c.raw())[i * c.info().scalarsPerParticle() + static_cast<std::size_t>(pf.b)];
   }
   }
   return 0.0;
 }
 
-// A scalar (double or int32) snapshot field of the store.
+// A snapshot field of the store: a scalar (double, int32, int64), or a vector or tensor of
+// doubles, whose components are probed as name_x, name_xy (the snapshot array's [n, x, y]).
 bool probeableColumn(const ColumnBase& c) {
   const FieldInfo& info = c.info();
-  return (info.flags & kOutput) != 0 && info.shape.empty() && info.scalar != ScalarType::U64;
+  if ((info.flags & kOutput) == 0 || info.scalar == ScalarType::U64) return false;
+  return info.shape.empty() || (info.scalar == ScalarType::F64 && info.shape.size() <= 2);
+}
+
+// A column's probe names: its own for a scalar, else one per component.
+std::vector<std::string> columnProbeNames(const FieldInfo& info) {
+  if (info.shape.empty()) return {info.name};
+  std::vector<std::string> names;
+  const int rows = info.shape[0], cols = info.shape.size() > 1 ? info.shape[1] : 1;
+  for (int a = 0; a < rows; ++a)
+    for (int b = 0; b < cols; ++b)
+      names.push_back(info.shape.size() > 1 ? fmt::format("{}_{}{}", info.name, kAxes[a], kAxes[b])
+                                            : fmt::format("{}_{}", info.name, kAxes[a]));
+  return names;
 }
 } // namespace
 
@@ -68,9 +84,9 @@ std::vector<std::string> probeFieldNames(int dim, const ParticleStore* store) {
     names.emplace_back(n);
   if (store)
     for (const auto& c : store->columns())
-      if (probeableColumn(*c) &&
-          std::find(names.begin(), names.end(), c->info().name) == names.end())
-        names.push_back(c->info().name);
+      if (probeableColumn(*c))
+        for (auto& n : columnProbeNames(c->info()))
+          if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
   return names;
 }
 
@@ -96,9 +112,13 @@ ProbeField resolveProbeField(const std::string& name, int dim, const SourceLocat
   if (name == "mass") return {K::Mass, 0, 0, name};
   if (name == "smoothing_length") return {K::SmoothingLength, 0, 0, name};
   if (store)
-    for (std::size_t c = 0; c < store->columns().size(); ++c)
-      if (store->columns()[c]->info().name == name && probeableColumn(*store->columns()[c]))
-        return {K::Column, static_cast<int>(c), 0, name};
+    for (std::size_t c = 0; c < store->columns().size(); ++c) {
+      if (!probeableColumn(*store->columns()[c])) continue;
+      const auto names = columnProbeNames(store->columns()[c]->info());
+      const auto k = std::find(names.begin(), names.end(), name);
+      if (k != names.end())
+        return {K::Column, static_cast<int>(c), static_cast<int>(k - names.begin()), name};
+    }
   std::string list;
   for (const auto& n : probeFieldNames(dim, store)) list += (list.empty() ? "" : ", ") + n;
   throw DeckError(where,

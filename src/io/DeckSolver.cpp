@@ -26,11 +26,10 @@ void readSolver(const TableReader& r, SolverConfig& s) {
       mp.check(*v >= 0.0, "cell_size", ">= 0 (0: twice the finest body spacing)", *v);
       s.mpm.cell_size = *v;
     }
-    if (const auto shape = mp.string("shape"); shape && *shape == "cpdi")
-      mp.fail("shape",
-              mp.quoted("shape") + ": 'cpdi' is not available yet (available: linear, gimp)");
-    s.mpm.shape = mp.choice("shape", {"linear", "gimp"}, "gimp") == "linear" ? MpmShape::Linear
-                                                                             : MpmShape::Gimp;
+    const std::string shape = mp.choice("shape", {"linear", "gimp", "cpdi"}, "gimp");
+    s.mpm.shape = shape == "linear" ? MpmShape::Linear
+                  : shape == "cpdi" ? MpmShape::Cpdi
+                                    : MpmShape::Gimp;
     s.mpm.flip = mp.number("flip").value_or(s.mpm.flip);
     mp.check(s.mpm.flip >= 0.0 && s.mpm.flip <= 1.0, "flip", "in [0, 1] (1: FLIP, 0: PIC)",
              s.mpm.flip);

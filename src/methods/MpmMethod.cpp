@@ -1,4 +1,5 @@
 #include "spall/methods/MpmMethod.hpp"
+#include "spall/solvers/MpmShapes.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,6 +8,14 @@
 #include <numeric>
 
 namespace spall::methods {
+
+namespace {
+// CPDI's domains: at most a cell in half-width (2 cells across: the corners' cells still meet)
+// and 4 times longer than wide. The stretching bar reaches 0.75 cells and 3 at stretch 3,
+// untouched; a rod's penetration shears domains to 12 cells by 1/200 of one, which turned
+// points inside out (decks/README.md, "The material point method").
+constexpr double kDomainLongest = 1.0, kDomainAspect = 4.0;
+} // namespace
 
 template <int Dim>
 MpmMethod<Dim>::MpmMethod(const parallel::MpiContext& mpi, MethodSetup setup,
@@ -169,6 +178,7 @@ template <int Dim> void MpmMethod<Dim>::loads(double time) {
 // middle.
 template <int Dim> void MpmMethod<Dim>::deform(double dt) {
   const std::size_t n = s_.localCount();
+  const double hc = setup_.solver.mpm.cell_size;
   const auto rho = s_[f_.rho];
   const auto e = s_[f_.e];
   const auto p = s_[f_.p];
@@ -188,6 +198,13 @@ template <int Dim> void MpmMethod<Dim>::deform(double dt) {
   for (std::size_t i = 0; i < n; ++i) {
     // The whole 3 x 3 increment: in rz the hoop rate L_tt changes a ring's volume too.
     const Tensor<3> F = Tensor<3>::Identity() + dt * L[i];
+    // CPDI: the domain follows the in-plane motion, r_i <- (I + dt L) r_i, kept within a cell
+    // of half-width and an aspect ratio of 4 (solvers/MpmShapes.hpp, regulariseDomain).
+    if (f_.domain.valid()) {
+      Tensor<Dim>& R = s_[f_.domain][i];
+      R = (F.template topLeftCorner<Dim, Dim>() * R).eval();
+      solvers::mpm::regulariseDomain<Dim>(R, kDomainLongest * hc, kDomainAspect);
+    }
     const double rhoNew = rho[i] / F.determinant();
     rhoMid[i] = 0.5 * (rho[i] + rhoNew);
     work[i] = power(i);
@@ -218,12 +235,17 @@ template <int Dim> std::pair<double, std::size_t> MpmMethod<Dim>::localTimeStep(
 // that each node an owned point touches sums all of its points here.
 template <int Dim> void MpmMethod<Dim>::exchangeHalo() {
   const std::size_t n = s_.localCount();
-  double lpMax = 0.0;
-  for (double lp : s_[f_.halfWidth].first(n)) lpMax = std::max(lpMax, lp);
+  // How far a point's weights reach beyond a cell: GIMP its box, CPDI its domain's corners.
+  double extent = 0.0;
+  if (f_.domain.valid())
+    for (const Tensor<Dim>& R : s_[f_.domain].first(n))
+      extent = std::max(extent, R.cwiseAbs().rowwise().sum().maxCoeff());
+  else
+    for (double lp : s_[f_.halfWidth].first(n)) extent = std::max(extent, lp);
   // At least the kernel support: friends of friends link within it over the same ghosts.
   double hMax = 0.0;
   for (double h : s_[f_.h].first(n)) hMax = std::max(hMax, h);
-  const double R = std::max(grid_->haloReach(mpi_.max(lpMax)), support() * mpi_.max(hMax));
+  const double R = std::max(grid_->haloReach(mpi_.max(extent)), support() * mpi_.max(hMax));
   reach_.assign(n, std::sqrt(static_cast<double>(Dim)) * R);
   boxReach_.assign(n, Vec<Dim>::Constant(R));
   halo_.build(s_, f_.x, reach_, std::span<const Vec<Dim>>(boxReach_), haloFields_);
@@ -261,6 +283,7 @@ template <int Dim> solvers::MpmParticles<Dim> MpmMethod<Dim>::particles() {
   P.p = s_[f_.p].first(rows);
   P.halfWidth = s_[f_.halfWidth].first(rows);
   if (f_.hasStrength()) P.S = s_[f_.S].first(rows);
+  if (f_.domain.valid()) P.domain = s_[f_.domain].first(rows);
   P.owned = s_.localCount();
   // contact "frictionless": a velocity field per body (solvers/MpmGrid; "auto" is one field).
   if (f_.contactGroup.valid()) P.field = s_[f_.contactGroup].first(rows);

@@ -219,6 +219,10 @@ void ParticleMethod<Dim>::forEachBadField(std::size_t i, Visit&& visit) const {
   add(!std::isfinite(s_[f_.cs][i]), "sound_speed");
   if (f_.hasStrength()) add(!s_[f_.S][i].allFinite(), "stress");
   if (f_.anisotropic()) add(!s_[f_.H][i].allFinite(), "smoothing");
+  // CPDI: a domain turned inside out (det R <= 0) has no weights (MPM's negative Jacobian).
+  if (f_.domain.valid())
+    add(!(s_[f_.domain][i].determinant() > 0.0) || !s_[f_.domain][i].allFinite(),
+        "particle_domain");
 }
 
 // Every rank calls this with its candidate (max() for none; `row` its owned row): the lowest

@@ -15,15 +15,17 @@ constexpr double kCovered = 0.9;
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max(); // the end of a list
 
 template <int Dim, MpmShape Shape> class Grid final : public MpmGrid<Dim> {
-  static constexpr int K = mpm::kNodesPerParticle<Shape, Dim>;
+  // A point's nodes: a fixed block (the tent, GIMP) or CPDI's list, at most K.
+  static constexpr bool kBlock = Shape != MpmShape::Cpdi;
+  static constexpr int K = kBlock ? mpm::kNodesPerParticle<Shape, Dim> : mpm::kCpdiEntries<Dim>;
   using Key = std::array<std::int64_t, Dim>;
 
 public:
   Grid(const MpmConfig& c, const Vec<Dim>& origin, std::vector<GridWall<Dim>> walls, bool rz)
       : c_(c), origin_(origin), walls_(std::move(walls)), rz_(rz) {}
 
-  double haloReach(double lpMax) const override {
-    return Shape == MpmShape::Linear ? 2.0 * c_.cell_size : 2.0 * (c_.cell_size + lpMax);
+  double haloReach(double extent) const override {
+    return Shape == MpmShape::Linear ? 2.0 * c_.cell_size : 2.0 * (c_.cell_size + extent);
   }
   std::size_t nodes() const override { return key_.size(); }
 
@@ -56,8 +58,7 @@ public:
       Vec<Dim> hoop = Vec<Dim>::Zero();
       const double rp = rz_ ? radius(P, r) : 1.0;
       if (rz_) hoop[0] = ((solid ? P.S[r](2, 2) : 0.0) - P.p[r]) / rp;
-      for (int q = 0; q < K; ++q) {
-        const std::size_t e = r * K + static_cast<std::size_t>(q);
+      for (std::size_t e = begin_[r]; e < begin_[r + 1]; ++e) {
         const std::uint32_t I = node_[e];
         mass_[I] += S_[e] * P.m[r];
         momentum_[I] += S_[e] * mv;
@@ -112,8 +113,7 @@ public:
         continue;
       }
       Vec<Dim> vPic = Vec<Dim>::Zero(), dv = Vec<Dim>::Zero();
-      for (int q = 0; q < K; ++q) {
-        const std::size_t e = r * K + static_cast<std::size_t>(q);
+      for (std::size_t e = begin_[r]; e < begin_[r + 1]; ++e) {
         vPic += S_[e] * velocity_[node_[e]];
         dv += S_[e] * increment_[node_[e]];
       }
@@ -135,8 +135,7 @@ public:
     momentum_.assign(N, Vec<Dim>::Zero());
     for (const std::uint32_t r : order) {
       const Vec<Dim> mv = P.m[r] * P.v[r];
-      for (int q = 0; q < K; ++q) {
-        const std::size_t e = r * K + static_cast<std::size_t>(q);
+      for (std::size_t e = begin_[r]; e < begin_[r + 1]; ++e) {
         momentum_[node_[e]] += S_[e] * mv;
       }
     }
@@ -148,8 +147,7 @@ public:
     for (std::size_t r = 0; r < P.owned; ++r) {
       Tensor<Dim> l = Tensor<Dim>::Zero();
       double vr = 0.0; // rz: the point's radial velocity, for the hoop rate v_r / r
-      for (int q = 0; q < K; ++q) {
-        const std::size_t e = r * K + static_cast<std::size_t>(q);
+      for (std::size_t e = begin_[r]; e < begin_[r + 1]; ++e) {
         l += velocity_[node_[e]] * grad_[e].transpose();
         vr += S_[e] * velocity_[node_[e]][0];
       }
@@ -170,26 +168,50 @@ private:
   // Each row's block of nodes and weights, and the nodes numbered: densely over the rows'
   // bounding box of nodes when it is small against the entries, else by sorting the keys.
   void connect(const MpmParticles<Dim>& P, std::size_t rows) {
-    node_.resize(rows * K);
-    S_.resize(rows * K);
-    grad_.resize(rows * K);
-    first_.resize(rows);
+    begin_.resize(rows + 1);
+    if constexpr (kBlock) {
+      first_.resize(rows);
+      S_.resize(rows * K);
+      grad_.resize(rows * K);
+    } else { // as many entries as the points' nodes (a 3D point's list holds up to 64)
+      S_.clear();
+      grad_.clear();
+      entryKey_.clear();
+    }
     Key lo, hi;
     lo.fill(std::numeric_limits<std::int64_t>::max());
     hi.fill(std::numeric_limits<std::int64_t>::min());
+    std::size_t e = 0;
     for (std::size_t r = 0; r < rows; ++r) {
-      const auto b = mpm::block<Shape, Dim>(P.x[r], origin_, c_.cell_size, P.halfWidth[r]);
-      first_[r] = b.first;
-      for (int q = 0; q < K; ++q) {
-        S_[r * K + static_cast<std::size_t>(q)] = b.S[static_cast<std::size_t>(q)];
-        grad_[r * K + static_cast<std::size_t>(q)] = b.grad[static_cast<std::size_t>(q)];
-      }
-      for (int a = 0; a < Dim; ++a) {
-        const auto sa = static_cast<std::size_t>(a);
-        lo[sa] = std::min(lo[sa], b.first[sa]);
-        hi[sa] = std::max(hi[sa], b.first[sa] + mpm::kNodesPerAxis<Shape> - 1);
+      begin_[r] = e;
+      if constexpr (kBlock) {
+        const auto b = mpm::block<Shape, Dim>(P.x[r], origin_, c_.cell_size, P.halfWidth[r]);
+        first_[r] = b.first;
+        for (int q = 0; q < K; ++q, ++e) {
+          S_[e] = b.S[static_cast<std::size_t>(q)];
+          grad_[e] = b.grad[static_cast<std::size_t>(q)];
+        }
+        for (int a = 0; a < Dim; ++a) {
+          const auto sa = static_cast<std::size_t>(a);
+          lo[sa] = std::min(lo[sa], b.first[sa]);
+          hi[sa] = std::max(hi[sa], b.first[sa] + mpm::kNodesPerAxis<Shape> - 1);
+        }
+      } else {
+        const auto w = mpm::cpdi<Dim>(P.x[r], P.domain[r], origin_, c_.cell_size);
+        for (int q = 0; q < w.count; ++q, ++e) {
+          const auto sq = static_cast<std::size_t>(q);
+          S_.push_back(w.S[sq]);
+          grad_.push_back(w.grad[sq]);
+          entryKey_.push_back(w.key[sq]);
+          for (std::size_t a = 0; a < Dim; ++a) {
+            lo[a] = std::min(lo[a], w.key[sq][a]);
+            hi[a] = std::max(hi[a], w.key[sq][a]);
+          }
+        }
       }
     }
+    begin_[rows] = e;
+    node_.resize(e);
     key_.clear();
     multi_ = !P.field.empty();
     if (rows == 0) {
@@ -201,7 +223,7 @@ private:
     for (int a = 0; a < Dim; ++a)
       boxSize *= static_cast<double>(hi[static_cast<std::size_t>(a)] -
                                      lo[static_cast<std::size_t>(a)] + 1);
-    const double entries = static_cast<double>(rows * K);
+    const double entries = static_cast<double>(e);
     if (boxSize <= std::max(4.0 * entries, 65536.0))
       numberDense(rows, lo, hi, static_cast<std::size_t>(boxSize));
     else
@@ -219,8 +241,8 @@ private:
     next_.clear();
     for (std::size_t r = 0; r < rows; ++r) {
       const std::int32_t b = P.field[r];
-      for (int q = 0; q < K; ++q) {
-        std::uint32_t& I = node_[r * K + static_cast<std::size_t>(q)];
+      for (std::size_t e = begin_[r]; e < begin_[r + 1]; ++e) {
+        std::uint32_t& I = node_[e];
         // Walk the node's list to the first pair of field >= b (by index: next_ grows below).
         std::uint32_t before = kNone, at = head_[I];
         while (at != kNone && fieldOf_[at] < b) before = at, at = next_[at];
@@ -245,8 +267,7 @@ private:
     nodeLoad_.assign(key_.size(), 0.0);
     for (std::size_t r = 0; r < rows; ++r) {
       if (!(P.load[r] > 0.0)) continue;
-      for (int q = 0; q < K; ++q) {
-        const std::size_t e = r * K + static_cast<std::size_t>(q);
+      for (std::size_t e = begin_[r]; e < begin_[r + 1]; ++e) {
         double& PI = nodeLoad_[lattice(node_[e])];
         if (S_[e] > 0.0) PI = std::max(PI, P.load[r]);
       }
@@ -282,8 +303,7 @@ private:
     for (std::size_t r = 0; r < P.owned; ++r) {
       Vec<Dim> F = Vec<Dim>::Zero();
       double Pp = 0.0;
-      for (int q = 0; q < K; ++q) {
-        const std::size_t e = r * K + static_cast<std::size_t>(q);
+      for (std::size_t e = begin_[r]; e < begin_[r + 1]; ++e) {
         const std::size_t L = lattice(node_[e]);
         const double PI = nodeLoad_[L];
         if (!(PI > 0.0) || !(nodeMass_[L] > 0.0) || !(S_[e] > 0.0)) continue;
@@ -342,19 +362,25 @@ private:
     }
   }
 
-  Key keyOf(std::size_t r, int q) const {
-    const auto off = mpm::blockOffset<Shape, Dim>(q);
-    Key k = first_[r];
-    for (int a = 0; a < Dim; ++a)
-      k[static_cast<std::size_t>(a)] += off[static_cast<std::size_t>(a)];
-    return k;
+  // Entry e's (of row r) lattice node.
+  Key keyOf(std::size_t r, std::size_t e) const {
+    if constexpr (!kBlock) {
+      (void)r;
+      return entryKey_[e];
+    } else {
+      const auto off = mpm::blockOffset<Shape, Dim>(static_cast<int>(e - begin_[r]));
+      Key k = first_[r];
+      for (int a = 0; a < Dim; ++a)
+        k[static_cast<std::size_t>(a)] += off[static_cast<std::size_t>(a)];
+      return k;
+    }
   }
 
   void numberDense(std::size_t rows, const Key& lo, const Key& hi, std::size_t size) {
     box_.assign(size, std::numeric_limits<std::uint32_t>::max());
     for (std::size_t r = 0; r < rows; ++r)
-      for (int q = 0; q < K; ++q) {
-        const Key k = keyOf(r, q);
+      for (std::size_t e = begin_[r]; e < begin_[r + 1]; ++e) {
+        const Key k = keyOf(r, e);
         std::size_t flat = 0;
         for (int a = Dim - 1; a >= 0; --a) {
           const auto sa = static_cast<std::size_t>(a);
@@ -366,17 +392,15 @@ private:
           slot = static_cast<std::uint32_t>(key_.size());
           key_.push_back(k);
         }
-        node_[r * K + static_cast<std::size_t>(q)] = slot;
+        node_[e] = slot;
       }
   }
 
   void numberSorted(std::size_t rows) {
-    std::vector<std::pair<Key, std::uint32_t>> all(rows * K);
+    std::vector<std::pair<Key, std::uint32_t>> all(begin_[rows]);
     for (std::size_t r = 0; r < rows; ++r)
-      for (int q = 0; q < K; ++q) {
-        const std::size_t e = r * K + static_cast<std::size_t>(q);
-        all[e] = {keyOf(r, q), static_cast<std::uint32_t>(e)};
-      }
+      for (std::size_t e = begin_[r]; e < begin_[r + 1]; ++e)
+        all[e] = {keyOf(r, e), static_cast<std::uint32_t>(e)};
     std::sort(all.begin(), all.end());
     for (std::size_t i = 0; i < all.size(); ++i) {
       if (i == 0 || all[i].first != all[i - 1].first) key_.push_back(all[i].first);
@@ -417,8 +441,10 @@ private:
   std::vector<GridWall<Dim>> walls_;
   bool rz_;                    // axisymmetric: x = r, y = z, the points rings
   std::vector<double> radius_; // rz: the owned rings' radii for the hoop rate
-  // Per row and block entry (row r, entry q at r K + q): the node's number (with contact, its
-  // (node, field) pair's), S and grad S.
+  // Per row its entries [begin_[r], begin_[r + 1]) (a block: r K + q), and per entry the node's
+  // number (with contact, its (node, field) pair's), S and grad S; CPDI's lattice node.
+  std::vector<std::size_t> begin_;
+  std::vector<Key> entryKey_;
   std::vector<std::uint32_t> node_;
   std::vector<double> S_;
   std::vector<Vec<Dim>> grad_;
@@ -450,6 +476,9 @@ std::unique_ptr<MpmGrid<Dim>> makeMpmGrid(const MpmConfig& config, const Vec<Dim
   if (config.shape == MpmShape::Linear)
     return std::make_unique<Grid<Dim, MpmShape::Linear>>(config, origin, std::move(walls),
                                                          axisymmetric);
+  if (config.shape == MpmShape::Cpdi)
+    return std::make_unique<Grid<Dim, MpmShape::Cpdi>>(config, origin, std::move(walls),
+                                                       axisymmetric);
   return std::make_unique<Grid<Dim, MpmShape::Gimp>>(config, origin, std::move(walls),
                                                      axisymmetric);
 }

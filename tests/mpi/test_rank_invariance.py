@@ -98,6 +98,9 @@ CASES = [("sod_1d.toml", []), ("rod_impact_copper.toml", ["run.end_time=6e-6"]),
          # over its fields in field order
          ("glancing_disks_mpm_2d.toml", ["run.end_time=2.5"]),
          ("taylor_bar_3d.toml", ["run.resolution=0.4", "run.max_steps=40", "solver.method=mpm"]),
+         # ... CPDI: each point's nodes those of its domain's corners, the halo as wide as the
+         # most stretched domain reaches (the bar to 2.5x its length, points 1.25 cells apart)
+         ("stretching_bar_mpm_2d.toml", ["run.end_time=0.015"]),
          # ... and in rz: the axis a constrained node plane, the hoop terms
          ("taylor_bar_4340_rz.toml", ["run.end_time=2e-5", "solver.method=mpm"]),
          # ... with bodies joining (a [[jet]]'s segments): the grid's origin stays where t = 0

@@ -261,6 +261,9 @@ with tempfile.TemporaryDirectory() as tmp:
     stopped_and_restarted(SRC / "decks/glancing_disks_mpm_2d.toml", 3, tmp / "mpm_glancing", [],
                           200, "glancing disks (MPM, frictionless contact), 3 ranks, restart "
                           "mid-impact")
+    # CPDI: the domains (particle_domain) are checkpointed; the bar stopped at stretch 2.
+    stopped_and_restarted(SRC / "decks/stretching_bar_mpm_2d.toml", 3, tmp / "mpm_stretch", [],
+                          90, "stretching bar (MPM, CPDI), 3 ranks, restart at stretch 2")
     stopped_and_restarted(SRC / "decks/taylor_bar_3d.toml", 2, tmp / "mpm_taylor",
                           ["run.resolution=0.4", "run.end_time=1e-5", "solver.method=mpm"], 100,
                           "Taylor bar (MPM, 3D), 2 ranks, restart mid-impact")

@@ -74,6 +74,9 @@ template <int Dim> struct ParticleFields {
   // solver.method = "mpm" (methods/modules/MaterialPoints.hpp): the half-width l_p of each
   // material point's box, what its GIMP weights are averaged over.
   Field<double> halfWidth;
+  // shape = "cpdi": the point's domain, a parallelogram (parallelepiped) whose half-edge vectors
+  // r_i = F r_i^0 are R's columns (snapshots: particle_domain[n, i, :] = r_i).
+  Field<Tensor<Dim>> domain;
 
   bool anisotropic() const { return H.valid(); }
   bool hasStrength() const { return S.valid(); }

@@ -31,9 +31,10 @@ struct ProbeField {
   std::string name;
 };
 
-// Throws DeckError at `where` for a name this dimension does not have. With a store, every scalar
+// Throws DeckError at `where` for a name this dimension does not have. With a store, every
 // snapshot field it holds is a probe field too (the physics modules' fields: plastic_strain,
-// temperature, damage, ...).
+// temperature, damage, ...), a vector's or tensor's by component: name_x, name_xy for the
+// snapshot array's [n, x] and [n, x, y] (deformation_gradient_xy, particle_domain_xx, ...).
 ProbeField resolveProbeField(const std::string& name, int dim, const SourceLocation& where,
                              const ParticleStore* store = nullptr);
 // All probe field names available in `dim` dimensions (for messages and `spall check`).

@@ -75,8 +75,10 @@ enum class Contact {
 // The material point method's grid and transfers ([solver.mpm]).
 enum class MpmShape {
   Linear, // tent functions of the nodes (Sulsky, Chen & Schreyer 1994)
-  Gimp    // uGIMP: the tent convolved with the particle's box of half-width l_p (Bardenhagen &
+  Gimp,   // uGIMP: the tent convolved with the particle's box of half-width l_p (Bardenhagen &
           // Kober 2004, Eq. 37)
+  Cpdi    // CPDI1: the tent averaged over the particle's deformed domain, a parallelogram
+          // (parallelepiped) that follows F (Sadeghirad, Brannon & Burghardt 2011)
 };
 struct MpmConfig {
   double cell_size = 0.0; // m; 0: twice the finest body spacing (io/Deck resolves it)

@@ -52,7 +52,8 @@ template <int Dim> struct GridWall {
 template <int Dim> struct MpmParticles {
   std::span<Vec<Dim>> x, v, a;
   std::span<const double> m, rho, p, halfWidth;
-  std::span<const Tensor<3>> S; // deviatoric stress; empty for fluids
+  std::span<const Tensor<3>> S;        // deviatoric stress; empty for fluids
+  std::span<const Tensor<Dim>> domain; // CPDI: each row's half-edge vectors (columns)
   std::size_t owned = 0;
   std::span<const std::int32_t> field; // each row's velocity field (contact group); empty: one
   // Loads and supports (methods/MpmMethod fills them from the modules' hooks); empty: none.
@@ -82,9 +83,11 @@ public:
                                 std::span<Tensor<3>> L) = 0;
   // Lattice nodes touched, for the statistics (the last project()).
   virtual std::size_t nodes() const = 0;
-  // How far (per axis, m) a particle of half-width lp reaches its nodes' other particles: what
-  // the halo must bring so that every node an owned particle touches is complete.
-  virtual double haloReach(double lpMax) const = 0;
+  // How far (per axis, m) a particle reaches its nodes' other particles, when no point's
+  // weights reach further than `extent` from it beyond a cell (GIMP: its half-width l_p; CPDI:
+  // its domain's half-extent along the axis, sum_i |r_i,a|): what the halo must bring so that
+  // every node an owned particle touches is complete.
+  virtual double haloReach(double extent) const = 0;
 };
 
 // axisymmetric (rz, Dim 2): x = r, the points are rings (mass and volume 2 pi r times their

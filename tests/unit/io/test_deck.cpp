@@ -572,8 +572,11 @@ TEST_F(DeckTest, MpmTakesItsTableAndRefusesWhatItCannotDoYet) {
   EXPECT_EQ(d.solver.mpm.flip, 0.5);
   EXPECT_EQ(load(withLine(kDeck1D, 7, "method = \"mpm\"")).solver.mpm.shape, spall::MpmShape::Gimp);
   expectError(withLine(kDeck1D, 7, "mpm = { flip = 0.5 }"), 7, 7, "set method = \"mpm\"");
-  expectError(withLine(kDeck1D, 7, "method = \"mpm\"\nmpm = { shape = \"cpdi\" }"), 8, 17,
-              "'cpdi' is not available yet");
+  EXPECT_EQ(
+      load(withLine(kDeck1D, 7, "method = \"mpm\"\nmpm = { shape = \"cpdi\" }")).solver.mpm.shape,
+      spall::MpmShape::Cpdi);
+  expectError(withLine(kDeck1D, 7, "method = \"mpm\"\nmpm = { shape = \"bspline\" }"), 8, 17,
+              "linear, gimp, cpdi");
   expectError(withLine(kDeck1D, 7, "method = \"mpm\"\nmpm = { flip = 1.5 }"), 8, 16, "in [0, 1]");
   expectError(withLine(kDeck1D, 7, "method = \"mpm\"\nmpm = { cell_size = -1.0 }"), 8, 21, ">= 0");
   // Contact: one velocity field per body (frictionless) is MPM's too.

@@ -7,9 +7,11 @@
 #include "spall/solvers/MpmGrid.hpp"
 #include "spall/solvers/MpmShapes.hpp"
 
+#include <Eigen/SVD>
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <random>
 
@@ -119,6 +121,181 @@ TEST(MpmShapes, GimpIsContinuousWithItsSlope) {
 
 namespace {
 
+// CPDI's weights for a domain R at x: the same four sums as expectComplete, each node once, and
+// S >= 0. Tolerance: as there, relative to the domain's reach in cells.
+template <int Dim>
+void expectCpdiComplete(const Vec<Dim>& x, const Tensor<Dim>& R, const Vec<Dim>& origin,
+                        double hc) {
+  const auto w = mpm::cpdi<Dim>(x, R, origin, hc);
+  ASSERT_GT(w.count, 0);
+  ASSERT_LE(w.count, mpm::kCpdiEntries<Dim>);
+  double sum = 0.0;
+  Vec<Dim> first = Vec<Dim>::Zero(), grad = Vec<Dim>::Zero();
+  Tensor<Dim> moment = Tensor<Dim>::Zero();
+  for (int e = 0; e < w.count; ++e) {
+    const auto se = static_cast<std::size_t>(e);
+    for (int f = 0; f < e; ++f) EXPECT_NE(w.key[se], w.key[static_cast<std::size_t>(f)]);
+    Vec<Dim> X;
+    for (int a = 0; a < Dim; ++a)
+      X[a] = origin[a] + static_cast<double>(w.key[se][static_cast<std::size_t>(a)]) * hc;
+    EXPECT_GE(w.S[se], 0.0);
+    sum += w.S[se];
+    first += w.S[se] * X;
+    grad += w.grad[se];
+    moment += X * w.grad[se].transpose();
+  }
+  // grad S scales as 1 / (the domain's smallest width): tolerances relative to it.
+  const double g = R.inverse().norm();
+  EXPECT_NEAR(sum, 1.0, 1e-13);
+  EXPECT_LT((first - x).norm(), 1e-13 * (x.norm() + hc));
+  EXPECT_LT(grad.norm(), 1e-13 * g);
+  EXPECT_LT((moment - Tensor<Dim>::Identity()).norm(), 1e-12 * (1.0 + x.norm() * g));
+}
+
+template <int Dim> void checkCpdi() {
+  const double hc = 0.3;
+  Vec<Dim> origin;
+  for (int a = 0; a < Dim; ++a) origin[a] = -1.1 + 0.2 * a;
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-2.0, 3.0), w(0.0, 1.0);
+  for (int t = 0; t < 300; ++t) {
+    Vec<Dim> x;
+    for (int a = 0; a < Dim; ++a) x[a] = u(rng);
+    // A stretched (to 3 cells), squeezed (to 1/20 of a cell), sheared and turned domain.
+    Tensor<Dim> R = Tensor<Dim>::Zero();
+    for (int a = 0; a < Dim; ++a) {
+      R(a, a) = hc * (0.05 + 3.0 * w(rng));
+      for (int b = a + 1; b < Dim; ++b) R(a, b) = hc * (w(rng) - 0.5);
+    }
+    if constexpr (Dim >= 2) {
+      const double turn = 6.0 * w(rng);
+      Tensor<Dim> Q = Tensor<Dim>::Identity();
+      Q(0, 0) = Q(1, 1) = std::cos(turn);
+      Q(1, 0) = std::sin(turn);
+      Q(0, 1) = -Q(1, 0);
+      R = (Q * R).eval();
+    }
+    expectCpdiComplete<Dim>(x, R, origin, hc);
+  }
+  // The undeformed box with its corners on nodes and cell faces (2 points per cell: l_p = hc/4
+  // at a quarter cell; 1 per cell: l_p = hc/2 at a cell's centre), and a point on a node.
+  for (double lpOverHc : {0.25, 0.5})
+    for (double xi : {0.0, 0.25, 0.5, 0.75, 3.0, -2.5}) {
+      Vec<Dim> x;
+      for (int a = 0; a < Dim; ++a) x[a] = origin[a] + xi * hc;
+      expectCpdiComplete<Dim>(x, lpOverHc * hc * Tensor<Dim>::Identity(), origin, hc);
+    }
+}
+
+} // namespace
+
+TEST(MpmShapes, CpdiIsCompleteForStretchedShearedTurnedDomains) {
+  checkCpdi<1>();
+  checkCpdi<2>();
+  checkCpdi<3>();
+}
+
+TEST(MpmShapes, CpdiOfAPointInsideOneCellIsTheTent) {
+  // A domain that fits in one cell has every corner in that cell: four nodes, the cell's.
+  const double hc = 1.0;
+  const Vec<2> x(0.4, 0.7), origin(0.0, 0.0);
+  Tensor<2> R;
+  R << 0.1, 0.05, -0.02, 0.2;
+  const auto w = mpm::cpdi<2>(x, R, origin, hc);
+  ASSERT_EQ(w.count, 4);
+  const auto b = mpm::block<MpmShape::Linear, 2>(x, origin, hc, 0.0);
+  for (int q = 0; q < 4; ++q) {
+    const auto k = mpm::blockOffset<MpmShape::Linear, 2>(q);
+    int e = 0;
+    while (e < w.count && !(w.key[static_cast<std::size_t>(e)][0] == k[0] &&
+                            w.key[static_cast<std::size_t>(e)][1] == k[1]))
+      ++e;
+    ASSERT_LT(e, w.count) << q;
+    // The tent is bilinear in the cell, N = N_x(x) N_y(y): the corners' mean is its value at the
+    // centre plus the cross term's, sum_i r_i,x r_i,y N_x' N_y' (the quadratic's mean over the
+    // corners, its odd part cancelling), and the mean gradient is exactly the tent's gradient at
+    // the centre. Tolerance: round-off.
+    const auto sq = static_cast<std::size_t>(q);
+    const double slope = (k[0] ? 1.0 : -1.0) * (k[1] ? 1.0 : -1.0) / (hc * hc);
+    const double cross = slope * (R(0, 0) * R(1, 0) + R(0, 1) * R(1, 1));
+    EXPECT_NEAR(w.S[static_cast<std::size_t>(e)], b.S[sq] + cross, 1e-15) << q;
+    EXPECT_LT((w.grad[static_cast<std::size_t>(e)] - b.grad[sq]).norm(), 1e-14) << q;
+  }
+}
+
+namespace {
+
+template <int Dim> Vec<Dim> halfWidths(const Tensor<Dim>& R) {
+  Eigen::JacobiSVD<Tensor<Dim>> svd(R);
+  return svd.singularValues(); // descending
+}
+
+template <int Dim> void checkRegularise() {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), w(0.0, 1.0);
+  const double longest = 1.0, aspect = 4.0;
+  int kept = 0, reset = 0;
+  for (int t = 0; t < 2000; ++t) {
+    // Random domains from slivers to blobs: R = Q1 diag(sigma) Q2, sigma in [1e-4, 2] cells.
+    Tensor<Dim> A;
+    for (int i = 0; i < Dim; ++i)
+      for (int j = 0; j < Dim; ++j) A(i, j) = u(rng);
+    Eigen::JacobiSVD<Tensor<Dim>> svd(A, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Vec<Dim> sigma;
+    for (int k = 0; k < Dim; ++k) sigma[k] = std::pow(10.0, -4.0 + 4.3 * w(rng));
+    Tensor<Dim> R = svd.matrixU() * sigma.asDiagonal() * svd.matrixV().transpose();
+    if (R.determinant() < 0.0) R.col(0) = -R.col(0);
+    const Tensor<Dim> before = R;
+    const Vec<Dim> s = halfWidths<Dim>(R);
+    const bool fine = s[0] <= longest && (Dim == 1 || s[0] <= aspect * s[Dim - 1]);
+    const bool changed = mpm::regulariseDomain<Dim>(R, longest, aspect);
+    // Untouched, bit for bit, where it was within the limits (up to round-off at the limit
+    // itself: 1e-9 away from it).
+    const bool nearLimit = std::abs(s[0] - longest) < 1e-9 ||
+                           (Dim > 1 && std::abs(s[0] - aspect * s[Dim - 1]) < 1e-9 * s[0]);
+    if (nearLimit) continue;
+    EXPECT_EQ(changed, !fine) << t;
+    if (!changed) {
+      EXPECT_EQ(R, before);
+      ++kept;
+      continue;
+    }
+    ++reset;
+    // Within the limits (to round-off), right-handed, and the same principal axes: R' R'^T
+    // commutes with R R^T (to the eigenvectors' round-off, eps |M| / gap: 1e-8 for half-widths
+    // down to 1e-4 of the largest; a wrong axis gives order 1).
+    const Vec<Dim> r = halfWidths<Dim>(R);
+    EXPECT_LE(r[0], longest * (1.0 + 1e-12)) << t;
+    EXPECT_LE(r[0], aspect * r[Dim - 1] * (1.0 + 1e-12)) << t;
+    EXPECT_NEAR(r[0], std::min(s[0], longest), 1e-12) << t;
+    EXPECT_GT(R.determinant(), 0.0) << t;
+    const Tensor<Dim> M = before * before.transpose(), N = R * R.transpose();
+    EXPECT_LT((M * N - N * M).norm(), 1e-8 * M.norm() * N.norm()) << t;
+  }
+  EXPECT_GT(kept, 50);
+  EXPECT_GT(reset, 50);
+}
+
+} // namespace
+
+TEST(MpmShapes, CpdiDomainsAreKeptWithinACellAndAnAspectOfFour) {
+  checkRegularise<1>();
+  checkRegularise<2>();
+  checkRegularise<3>();
+  // The domain that turned a sandstone point inside out in rod_into_sandstone_rz (cells of 1 mm;
+  // half-widths 3.1 mm by 15 nm, edges 0.3 degrees apart): a box of 1 mm by 0.25 mm along its
+  // principal axes, whose weights are complete.
+  Tensor<2> R;
+  R << 2.4882e-4, 2.71937e-3, 1.2129e-4, 1.51752e-3;
+  ASSERT_TRUE(mpm::regulariseDomain<2>(R, 1e-3, 4.0));
+  const Vec<2> r = halfWidths<2>(R);
+  EXPECT_NEAR(r[0], 1e-3, 1e-15);
+  EXPECT_NEAR(r[1], 0.25e-3, 1e-15);
+  expectCpdiComplete<2>(Vec<2>(7.75e-3, -1.377e-2), R, Vec<2>(0.0, -0.07), 1e-3);
+}
+
+namespace {
+
 // A 2D cloud of points with stress, in a box of 12 x 12 cells; `rows` lists which of them the
 // grid holds, the first `owned` of them this "rank's".
 struct Cloud {
@@ -126,6 +303,7 @@ struct Cloud {
   std::vector<double> m, rho, p, lp;
   std::vector<Tensor<3>> S;
   std::vector<std::uint64_t> id;
+  std::vector<Tensor<2>> R; // CPDI's domains: stretched, sheared and turned, up to 1.2 cells
 };
 
 Cloud cloud(std::size_t n) {
@@ -147,8 +325,22 @@ Cloud cloud(std::size_t n) {
     S(0, 1) = S(1, 0) = u(rng) - 0.5;
     c.S.push_back(S);
     c.id.push_back(1000 + 7 * i);
+    const double turn = 6.0 * u(rng), cs = std::cos(turn), sn = std::sin(turn);
+    Tensor<2> Q, U;
+    Q << cs, -sn, sn, cs;
+    U << 0.1 + 0.8 * u(rng), 0.3 * (u(rng) - 0.5), 0.0, 0.1 + 0.4 * u(rng);
+    c.R.push_back(Q * U);
   }
   return c;
+}
+
+// How far the cloud's weights reach beyond a cell (MpmGrid::haloReach): GIMP's l_p, CPDI's
+// largest domain extent along an axis.
+double extent(const Cloud& c, MpmShape shape) {
+  if (shape != MpmShape::Cpdi) return 0.25;
+  double e = 0.0;
+  for (const auto& R : c.R) e = std::max(e, R.cwiseAbs().rowwise().sum().maxCoeff());
+  return e;
 }
 
 // One step on the listed rows (owned first); returns x, v and L of the owned rows.
@@ -170,12 +362,14 @@ Result step(const Cloud& all, const std::vector<std::size_t>& rows, std::size_t 
     c.lp.push_back(all.lp[r]);
     c.S.push_back(all.S[r]);
     c.id.push_back(all.id[r]);
+    c.R.push_back(all.R[r]);
   }
   std::vector<std::uint32_t> order(rows.size());
   std::iota(order.begin(), order.end(), 0u);
   std::sort(order.begin(), order.end(), [&](auto a, auto b) { return c.id[a] < c.id[b]; });
   auto grid = makeMpmGrid<2>(config, Vec<2>(0.0, 0.0), {});
   auto P = points<2>(c.x, c.v, c.a, c.m, c.rho, c.p, c.lp, c.S, owned);
+  P.domain = c.R;
   grid->project(P, order, 0.01);
   std::vector<Tensor<3>> L(owned);
   grid->velocityGradient(P, order, L);
@@ -199,7 +393,7 @@ TEST(MpmGrid, StepConservesMomentum) {
     scale += c.m[i] * c.v[i].norm();
   }
   for (double flip : {1.0, 0.0, 0.95}) {
-    for (MpmShape shape : {MpmShape::Linear, MpmShape::Gimp}) {
+    for (MpmShape shape : {MpmShape::Linear, MpmShape::Gimp, MpmShape::Cpdi}) {
       const MpmConfig config{1.0, shape, flip, {}};
       const Result r = step(c, rows, rows.size(), config);
       Vec<2> after = Vec<2>::Zero();
@@ -216,9 +410,9 @@ TEST(MpmGrid, AnOwnedPointsStepIgnoresEverythingBeyondTheHaloAndTheRowOrder) {
   // For the velocity gradient the ghosts' new velocities are those of the full step (what the
   // halo refresh delivers).
   const Cloud c = cloud(400);
-  for (MpmShape shape : {MpmShape::Linear, MpmShape::Gimp}) {
+  for (MpmShape shape : {MpmShape::Linear, MpmShape::Gimp, MpmShape::Cpdi}) {
     const MpmConfig config{1.0, shape, 1.0, {}};
-    const double reach = makeMpmGrid<2>(config, Vec<2>::Zero(), {})->haloReach(0.25);
+    const double reach = makeMpmGrid<2>(config, Vec<2>::Zero(), {})->haloReach(extent(c, shape));
     std::vector<std::size_t> all(c.x.size());
     std::iota(all.begin(), all.end(), 0u);
     std::reverse(all.begin(), all.end());
@@ -242,6 +436,7 @@ TEST(MpmGrid, AnOwnedPointsStepIgnoresEverythingBeyondTheHaloAndTheRowOrder) {
     std::vector<double> m, rho, p, lp;
     std::vector<Tensor<3>> S;
     std::vector<std::uint64_t> id;
+    std::vector<Tensor<2>> R;
     for (std::size_t r : rows) {
       x.push_back(c.x[r]);
       v.push_back(c.v[r]);
@@ -252,12 +447,14 @@ TEST(MpmGrid, AnOwnedPointsStepIgnoresEverythingBeyondTheHaloAndTheRowOrder) {
       lp.push_back(c.lp[r]);
       S.push_back(c.S[r]);
       id.push_back(c.id[r]);
+      R.push_back(c.R[r]);
     }
     std::vector<std::uint32_t> order(rows.size());
     std::iota(order.begin(), order.end(), 0u);
     std::sort(order.begin(), order.end(), [&](auto i, auto j) { return id[i] < id[j]; });
     auto grid = makeMpmGrid<2>(config, Vec<2>::Zero(), {});
     auto P = points<2>(x, v, a, m, rho, p, lp, S, owned.size());
+    P.domain = R;
     grid->project(P, order, 0.01);
     for (std::size_t k = 0; k < owned.size(); ++k) {
       const std::size_t fullRow = c.x.size() - 1 - owned[k]; // `all` is reversed

@@ -2,7 +2,8 @@
 // The material point method's particle: a box of half-width l_p = (A_0)^(1/dim) / 2 around it,
 // A_0 its volume m / rho at its start (in rz its area in the r-z plane, m / (2 pi r rho)): the
 // body's spacing on a cubic lattice. Its GIMP weights average over the box; uGIMP keeps l_p as
-// it was made (Bardenhagen & Kober 2004).
+// it was made (Bardenhagen & Kober 2004). CPDI's domain starts as that box, R = l_p I, and
+// follows the motion (methods/MpmMethod: R_n+1 = (I + dt L) R_n).
 #include "spall/methods/Module.hpp"
 
 #include <cmath>
@@ -12,9 +13,10 @@ namespace spall::methods {
 
 template <int Dim> class MaterialPoints final : public Module<Dim> {
 public:
-  explicit MaterialPoints(bool axisymmetric) : rz_(axisymmetric) {}
+  MaterialPoints(bool axisymmetric, bool domains) : rz_(axisymmetric), domains_(domains) {}
   void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override {
     f.halfWidth = s.add<double>("particle_half_width", kOutput | kCheckpoint | kHalo);
+    if (domains_) f.domain = s.add<Tensor<Dim>>("particle_domain", kOutput | kCheckpoint | kHalo);
   }
   void initialise(ParticleStore& s, const ParticleFields<Dim>& f,
                   const RunStart& start) const override {
@@ -24,11 +26,12 @@ public:
     for (std::size_t i = start.first; i < s.localCount(); ++i) {
       const double ring = rz_ ? 2.0 * std::numbers::pi * x[i][0] : 1.0;
       lp[i] = 0.5 * std::pow(m[i] / (ring * rho[i]), 1.0 / Dim);
+      if (domains_) s[f.domain][i] = lp[i] * Tensor<Dim>::Identity();
     }
   }
 
 private:
-  bool rz_;
+  bool rz_, domains_;
 };
 
 } // namespace spall::methods
