@@ -58,7 +58,7 @@ public:
       Vec<Dim> hoop = Vec<Dim>::Zero();
       const double rp = rz_ ? radius(P, r) : 1.0;
       if (rz_) hoop[0] = ((solid ? P.S[r](2, 2) : 0.0) - P.p[r]) / rp;
-      for (std::size_t e = begin_[r]; e < begin_[r + 1]; ++e) {
+      for (std::size_t e = from(r); e < to(r); ++e) {
         const std::uint32_t I = node_[e];
         mass_[I] += S_[e] * P.m[r];
         momentum_[I] += S_[e] * mv;
@@ -113,7 +113,7 @@ public:
         continue;
       }
       Vec<Dim> vPic = Vec<Dim>::Zero(), dv = Vec<Dim>::Zero();
-      for (std::size_t e = begin_[r]; e < begin_[r + 1]; ++e) {
+      for (std::size_t e = from(r); e < to(r); ++e) {
         vPic += S_[e] * velocity_[node_[e]];
         dv += S_[e] * increment_[node_[e]];
       }
@@ -135,7 +135,7 @@ public:
     momentum_.assign(N, Vec<Dim>::Zero());
     for (const std::uint32_t r : order) {
       const Vec<Dim> mv = P.m[r] * P.v[r];
-      for (std::size_t e = begin_[r]; e < begin_[r + 1]; ++e) {
+      for (std::size_t e = from(r); e < to(r); ++e) {
         momentum_[node_[e]] += S_[e] * mv;
       }
     }
@@ -147,7 +147,7 @@ public:
     for (std::size_t r = 0; r < P.owned; ++r) {
       Tensor<Dim> l = Tensor<Dim>::Zero();
       double vr = 0.0; // rz: the point's radial velocity, for the hoop rate v_r / r
-      for (std::size_t e = begin_[r]; e < begin_[r + 1]; ++e) {
+      for (std::size_t e = from(r); e < to(r); ++e) {
         l += velocity_[node_[e]] * grad_[e].transpose();
         vr += S_[e] * velocity_[node_[e]][0];
       }
@@ -241,7 +241,7 @@ private:
     next_.clear();
     for (std::size_t r = 0; r < rows; ++r) {
       const std::int32_t b = P.field[r];
-      for (std::size_t e = begin_[r]; e < begin_[r + 1]; ++e) {
+      for (std::size_t e = from(r); e < to(r); ++e) {
         std::uint32_t& I = node_[e];
         // Walk the node's list to the first pair of field >= b (by index: next_ grows below).
         std::uint32_t before = kNone, at = head_[I];
@@ -267,7 +267,7 @@ private:
     nodeLoad_.assign(key_.size(), 0.0);
     for (std::size_t r = 0; r < rows; ++r) {
       if (!(P.load[r] > 0.0)) continue;
-      for (std::size_t e = begin_[r]; e < begin_[r + 1]; ++e) {
+      for (std::size_t e = from(r); e < to(r); ++e) {
         double& PI = nodeLoad_[lattice(node_[e])];
         if (S_[e] > 0.0) PI = std::max(PI, P.load[r]);
       }
@@ -303,7 +303,7 @@ private:
     for (std::size_t r = 0; r < P.owned; ++r) {
       Vec<Dim> F = Vec<Dim>::Zero();
       double Pp = 0.0;
-      for (std::size_t e = begin_[r]; e < begin_[r + 1]; ++e) {
+      for (std::size_t e = from(r); e < to(r); ++e) {
         const std::size_t L = lattice(node_[e]);
         const double PI = nodeLoad_[L];
         if (!(PI > 0.0) || !(nodeMass_[L] > 0.0) || !(S_[e] > 0.0)) continue;
@@ -362,13 +362,27 @@ private:
     }
   }
 
+  // Row r's entries [from(r), to(r)): a block's a fixed count (the loops unroll), CPDI's a list.
+  std::size_t from(std::size_t r) const {
+    if constexpr (kBlock)
+      return r * K;
+    else
+      return begin_[r];
+  }
+  std::size_t to(std::size_t r) const {
+    if constexpr (kBlock)
+      return r * K + K;
+    else
+      return begin_[r + 1];
+  }
+
   // Entry e's (of row r) lattice node.
   Key keyOf(std::size_t r, std::size_t e) const {
     if constexpr (!kBlock) {
       (void)r;
       return entryKey_[e];
     } else {
-      const auto off = mpm::blockOffset<Shape, Dim>(static_cast<int>(e - begin_[r]));
+      const auto off = mpm::blockOffset<Shape, Dim>(static_cast<int>(e - from(r)));
       Key k = first_[r];
       for (int a = 0; a < Dim; ++a)
         k[static_cast<std::size_t>(a)] += off[static_cast<std::size_t>(a)];
@@ -379,7 +393,7 @@ private:
   void numberDense(std::size_t rows, const Key& lo, const Key& hi, std::size_t size) {
     box_.assign(size, std::numeric_limits<std::uint32_t>::max());
     for (std::size_t r = 0; r < rows; ++r)
-      for (std::size_t e = begin_[r]; e < begin_[r + 1]; ++e) {
+      for (std::size_t e = from(r); e < to(r); ++e) {
         const Key k = keyOf(r, e);
         std::size_t flat = 0;
         for (int a = Dim - 1; a >= 0; --a) {
@@ -399,7 +413,7 @@ private:
   void numberSorted(std::size_t rows) {
     std::vector<std::pair<Key, std::uint32_t>> all(begin_[rows]);
     for (std::size_t r = 0; r < rows; ++r)
-      for (std::size_t e = begin_[r]; e < begin_[r + 1]; ++e)
+      for (std::size_t e = from(r); e < to(r); ++e)
         all[e] = {keyOf(r, e), static_cast<std::uint32_t>(e)};
     std::sort(all.begin(), all.end());
     for (std::size_t i = 0; i < all.size(); ++i) {
