@@ -180,7 +180,8 @@ std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck
   list.push_back(std::make_unique<methods::Hydro<Dim>>());
   if (mpm)
     list.push_back(std::make_unique<methods::MaterialPoints<Dim>>(
-        deck.run.geometry == Geometry::RZ, solver.mpm.shape == MpmShape::Cpdi));
+        deck.run.geometry == Geometry::RZ, solver.mpm.shape == MpmShape::Cpdi,
+        solver.mpm.viscous()));
   if (solver.artificial_viscosity.balsara && !mpm)
     list.push_back(std::make_unique<methods::BalsaraSwitch<Dim>>());
   if (solids)

@@ -74,8 +74,8 @@ Simulation<Dim>::Simulation(const Deck& deck, const parallel::MpiContext& mpi)
   // Keys of SPH's pair loop in an MPM deck (a shipped deck run with --set solver.method=mpm).
   if (const auto& keys = deck_.solver.sphOnlyKeys; !keys.empty())
     deferredWarnings_.push_back(fmt::format(
-        "{}:{}: solver.{} act on SPH's pair loop and do nothing with method \"mpm\" "
-        "(decks/README.md, \"The material point method\")",
+        "{}:{}: solver.{} act on SPH's pair loop and do nothing with method \"mpm\" (its "
+        "shock viscosity: solver.mpm.viscosity; decks/README.md, \"The material point method\")",
         deck_.solver.where.file, deck_.solver.where.line, fmt::join(keys, ", solver.")));
   // With the plain SPH velocity gradient a solid's strain rate under-reads where the support is
   // cut, and a confined body settles with stresses off the load (decks/README.md).

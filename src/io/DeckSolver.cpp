@@ -33,6 +33,14 @@ void readSolver(const TableReader& r, SolverConfig& s) {
     s.mpm.flip = mp.number("flip").value_or(s.mpm.flip);
     mp.check(s.mpm.flip >= 0.0 && s.mpm.flip <= 1.0, "flip", "in [0, 1] (1: FLIP, 0: PIC)",
              s.mpm.flip);
+    if (const auto* v = mp.subtable("viscosity")) {
+      const TableReader q = TableReader(*v, mp.context().child("viscosity"), mp.deckPath());
+      q.allowOnly(*schemaKeys("solver.mpm.viscosity"));
+      s.mpm.viscosity_linear = q.number("linear").value_or(0.0);
+      s.mpm.viscosity_quadratic = q.number("quadratic").value_or(0.0);
+      q.check(s.mpm.viscosity_linear >= 0.0, "linear", ">= 0", s.mpm.viscosity_linear);
+      q.check(s.mpm.viscosity_quadratic >= 0.0, "quadratic", ">= 0", s.mpm.viscosity_quadratic);
+    }
   }
 
   const std::string kernel =

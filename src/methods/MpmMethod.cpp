@@ -189,9 +189,12 @@ template <int Dim> void MpmMethod<Dim>::deform(double dt) {
   auto& rhoMid = rhoMid_;
   work.resize(n);
   rhoMid.resize(n);
+  // The bulk viscosity q_n acts through the step as the grid force took it.
+  const bool viscous = f_.viscousPressure.valid();
+  const auto q = viscous ? s_[f_.viscousPressure].first(n) : std::span<double>();
   const auto power = [&](std::size_t i) {
     const Tensor<3> D = 0.5 * (L[i] + L[i].transpose());
-    double w = -p[i] * D.trace();
+    double w = -(viscous ? p[i] + q[i] : p[i]) * D.trace();
     if (f_.hasStrength()) w += s_[f_.S][i].cwiseProduct(D).sum();
     return w;
   };
@@ -215,17 +218,41 @@ template <int Dim> void MpmMethod<Dim>::deform(double dt) {
   materials_.update(materialFields(), dt);
   for (std::size_t i = 0; i < n; ++i) e[i] += 0.5 * dt * (power(i) - work[i]) / rhoMid[i];
   materials_.evaluate(materialFields());
+  if (!viscous) return;
+  // The next step's bulk viscosity from this step's rate of volume change (von Neumann &
+  // Richtmyer 1950, with Landshoff's linear term; Wilkins 1980, Eq. 13): in compression
+  // q = rho (C_Q (l tr D)^2 + C_L l c |tr D|), l the cell: a shock spreads over a few cells
+  // instead of ringing behind its front.
+  const auto& mpm = setup_.solver.mpm;
+  const auto cs = s_[f_.cs];
+  for (std::size_t i = 0; i < n; ++i) {
+    const double d = L[i].trace();
+    q[i] = d < 0.0 ? rho[i] * hc *
+                         (mpm.viscosity_quadratic * hc * d * d - mpm.viscosity_linear * cs[i] * d)
+                   : 0.0;
+  }
 }
 
 // The grid's stability limit: a wave or a point crosses a cell in no less than dt / cfl.
 template <int Dim> std::pair<double, std::size_t> MpmMethod<Dim>::localTimeStep() const {
   const auto cs = s_[f_.cs];
+  const auto rho = s_[f_.rho];
   const auto v = s_[f_.v];
   double dt = std::numeric_limits<double>::infinity();
   std::size_t which = 0;
-  const double hc = setup_.solver.mpm.cell_size;
+  const auto& mpm = setup_.solver.mpm;
+  const double hc = mpm.cell_size;
+  const bool viscous = f_.viscousPressure.valid();
   for (std::size_t i = 0; i < s_.localCount(); ++i) {
-    const double d = setup_.solver.cfl * hc / (cs[i] + v[i].norm());
+    // With a bulk viscosity, the signal speed Q + sqrt(Q^2 + c^2), Q = C_L c + C_Q l |tr D|
+    // (C_Q l |tr D| <= sqrt(C_Q q / rho): from q, which restarts carry).
+    double c = cs[i];
+    if (viscous) {
+      const double Q = mpm.viscosity_linear * c +
+                       std::sqrt(mpm.viscosity_quadratic * s_[f_.viscousPressure][i] / rho[i]);
+      c = Q + std::sqrt(Q * Q + c * c);
+    }
+    const double d = setup_.solver.cfl * hc / (c + v[i].norm());
     if (d < dt) dt = d, which = i;
   }
   return {dt, which};
@@ -284,6 +311,7 @@ template <int Dim> solvers::MpmParticles<Dim> MpmMethod<Dim>::particles() {
   P.halfWidth = s_[f_.halfWidth].first(rows);
   if (f_.hasStrength()) P.S = s_[f_.S].first(rows);
   if (f_.domain.valid()) P.domain = s_[f_.domain].first(rows);
+  if (f_.viscousPressure.valid()) P.q = s_[f_.viscousPressure].first(rows);
   P.owned = s_.localCount();
   // contact "frictionless": a velocity field per body (solvers/MpmGrid; "auto" is one field).
   if (f_.contactGroup.valid()) P.field = s_[f_.contactGroup].first(rows);

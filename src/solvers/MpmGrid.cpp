@@ -47,9 +47,10 @@ public:
       rigid_.assign(N, 0), rigidV_.assign(N, Vec<Dim>::Zero());
     else
       rigid_.clear();
-    const bool solid = !P.S.empty();
+    const bool solid = !P.S.empty(), viscous = !P.q.empty();
     for (const std::uint32_t r : order) {
-      Tensor<Dim> sigma = -P.p[r] * Tensor<Dim>::Identity();
+      const double p = viscous ? P.p[r] + P.q[r] : P.p[r];
+      Tensor<Dim> sigma = -p * Tensor<Dim>::Identity();
       if (solid) sigma += P.S[r].template topLeftCorner<Dim, Dim>();
       const double V = P.m[r] / P.rho[r];
       const Vec<Dim> mv = P.m[r] * P.v[r];
@@ -57,7 +58,7 @@ public:
       // 2 pi r dA is in the ring's mass and volume).
       Vec<Dim> hoop = Vec<Dim>::Zero();
       const double rp = rz_ ? radius(P, r) : 1.0;
-      if (rz_) hoop[0] = ((solid ? P.S[r](2, 2) : 0.0) - P.p[r]) / rp;
+      if (rz_) hoop[0] = ((solid ? P.S[r](2, 2) : 0.0) - p) / rp;
       for (std::size_t e = from(r); e < to(r); ++e) {
         const std::uint32_t I = node_[e];
         mass_[I] += S_[e] * P.m[r];

@@ -77,6 +77,9 @@ template <int Dim> struct ParticleFields {
   // shape = "cpdi": the point's domain, a parallelogram (parallelepiped) whose half-edge vectors
   // r_i = F r_i^0 are R's columns (snapshots: particle_domain[n, i, :] = r_i).
   Field<Tensor<Dim>> domain;
+  // [solver.mpm] viscosity: the bulk viscosity q the point's stress carries in the next step's
+  // grid force (from the last step's rate of deformation: methods/MpmMethod).
+  Field<double> viscousPressure;
 
   bool anisotropic() const { return H.valid(); }
   bool hasStrength() const { return S.valid(); }

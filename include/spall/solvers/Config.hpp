@@ -83,7 +83,11 @@ enum class MpmShape {
 struct MpmConfig {
   double cell_size = 0.0; // m; 0: twice the finest body spacing (io/Deck resolves it)
   MpmShape shape = MpmShape::Gimp;
-  double flip = 1.0;    // 1: FLIP velocity update, 0: PIC, between: the blend
+  double flip = 1.0; // 1: FLIP velocity update, 0: PIC, between: the blend
+  // The bulk viscosity q = rho (C_Q (l tr D)^2 - C_L l c tr D) in compression (tr D < 0), l the
+  // cell size (von Neumann & Richtmyer 1950; Landshoff's linear term): 0, 0 is none.
+  double viscosity_linear = 0.0, viscosity_quadratic = 0.0;
+  bool viscous() const { return viscosity_linear > 0.0 || viscosity_quadratic > 0.0; }
   SourceLocation where; // the [solver.mpm] table (or [solver])
 };
 

@@ -578,6 +578,20 @@ TEST_F(DeckTest, MpmTakesItsTableAndRefusesWhatItCannotDoYet) {
   expectError(withLine(kDeck1D, 7, "method = \"mpm\"\nmpm = { shape = \"bspline\" }"), 8, 17,
               "linear, gimp, cpdi");
   expectError(withLine(kDeck1D, 7, "method = \"mpm\"\nmpm = { flip = 1.5 }"), 8, 16, "in [0, 1]");
+  {
+    const auto q = load(withLine(kDeck1D, 7,
+                                 "method = \"mpm\"\nmpm = { viscosity = { linear = 0.2, "
+                                 "quadratic = 2.0 } }"))
+                       .solver.mpm;
+    EXPECT_EQ(q.viscosity_linear, 0.2);
+    EXPECT_EQ(q.viscosity_quadratic, 2.0);
+    EXPECT_TRUE(q.viscous());
+    EXPECT_FALSE(load(withLine(kDeck1D, 7, "method = \"mpm\"")).solver.mpm.viscous());
+  }
+  expectError(withLine(kDeck1D, 7, "method = \"mpm\"\nmpm = { viscosity = { linear = -0.1 } }"), 8,
+              32, ">= 0");
+  expectError(withLine(kDeck1D, 7, "method = \"mpm\"\nmpm = { viscosity = { cubic = 1.0 } }"), 8,
+              23, "cubic");
   expectError(withLine(kDeck1D, 7, "method = \"mpm\"\nmpm = { cell_size = -1.0 }"), 8, 21, ">= 0");
   // Contact: one velocity field per body (frictionless) is MPM's too.
   EXPECT_EQ(

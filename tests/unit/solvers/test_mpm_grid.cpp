@@ -20,6 +20,15 @@ using namespace spall::solvers;
 
 namespace {
 
+// The grid's settings a test varies (the rest at their defaults: no viscosity).
+MpmConfig gridConfig(double cellSize, MpmShape shape, double flip) {
+  MpmConfig c;
+  c.cell_size = cellSize;
+  c.shape = shape;
+  c.flip = flip;
+  return c;
+}
+
 // The transfers' view of a test's particle arrays (no contact, loads or supports).
 template <int Dim>
 MpmParticles<Dim> points(std::span<Vec<Dim>> x, std::span<Vec<Dim>> v, std::span<Vec<Dim>> a,
@@ -394,7 +403,7 @@ TEST(MpmGrid, StepConservesMomentum) {
   }
   for (double flip : {1.0, 0.0, 0.95}) {
     for (MpmShape shape : {MpmShape::Linear, MpmShape::Gimp, MpmShape::Cpdi}) {
-      const MpmConfig config{1.0, shape, flip, {}};
+      const MpmConfig config = gridConfig(1.0, shape, flip);
       const Result r = step(c, rows, rows.size(), config);
       Vec<2> after = Vec<2>::Zero();
       for (std::size_t i = 0; i < c.x.size(); ++i) after += c.m[i] * r.v[i];
@@ -411,7 +420,7 @@ TEST(MpmGrid, AnOwnedPointsStepIgnoresEverythingBeyondTheHaloAndTheRowOrder) {
   // halo refresh delivers).
   const Cloud c = cloud(400);
   for (MpmShape shape : {MpmShape::Linear, MpmShape::Gimp, MpmShape::Cpdi}) {
-    const MpmConfig config{1.0, shape, 1.0, {}};
+    const MpmConfig config = gridConfig(1.0, shape, 1.0);
     const double reach = makeMpmGrid<2>(config, Vec<2>::Zero(), {})->haloReach(extent(c, shape));
     std::vector<std::size_t> all(c.x.size());
     std::iota(all.begin(), all.end(), 0u);
@@ -479,7 +488,7 @@ TEST(MpmGrid, WallNodesKeepNoNormalVelocity) {
   std::vector<Vec<1>> v(3, Vec<1>(-1.0)), a(3, Vec<1>::Zero());
   std::vector<double> m(3, 1.0), rho(3, 1.0), p(3, 0.0), lp(3, 0.25);
   std::vector<std::uint32_t> order{0, 1, 2};
-  const MpmConfig config{1.0, MpmShape::Gimp, 0.0, {}};
+  const MpmConfig config = gridConfig(1.0, MpmShape::Gimp, 0.0);
   auto grid = makeMpmGrid<1>(config, Vec<1>::Zero(), {GridWall<1>{Vec<1>(0.0), Vec<1>(1.0)}});
   auto P = points<1>(x, v, a, m, rho, p, lp, {}, 3);
   grid->project(P, order, 0.01);
@@ -512,7 +521,7 @@ std::vector<Vec<2>> stepTwoBlocks(const Vec<2>& vLower, const Vec<2>& vUpper, do
       }
   std::vector<std::uint32_t> order(x.size());
   std::iota(order.begin(), order.end(), 0u);
-  const MpmConfig config{1.0, MpmShape::Gimp, 0.0, {}};
+  const MpmConfig config = gridConfig(1.0, MpmShape::Gimp, 0.0);
   auto grid = makeMpmGrid<2>(config, Vec<2>::Zero(), {});
   auto P = points<2>(x, v, a, m, rho, p, lp, {}, x.size());
   if (contact) P.field = field;

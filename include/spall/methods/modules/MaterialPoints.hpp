@@ -13,10 +13,13 @@ namespace spall::methods {
 
 template <int Dim> class MaterialPoints final : public Module<Dim> {
 public:
-  MaterialPoints(bool axisymmetric, bool domains) : rz_(axisymmetric), domains_(domains) {}
+  MaterialPoints(bool axisymmetric, bool domains, bool viscous)
+      : rz_(axisymmetric), domains_(domains), viscous_(viscous) {}
   void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override {
     f.halfWidth = s.add<double>("particle_half_width", kOutput | kCheckpoint | kHalo);
     if (domains_) f.domain = s.add<Tensor<Dim>>("particle_domain", kOutput | kCheckpoint | kHalo);
+    if (viscous_)
+      f.viscousPressure = s.add<double>("viscous_pressure", kOutput | kCheckpoint | kHalo);
   }
   void initialise(ParticleStore& s, const ParticleFields<Dim>& f,
                   const RunStart& start) const override {
@@ -27,11 +30,12 @@ public:
       const double ring = rz_ ? 2.0 * std::numbers::pi * x[i][0] : 1.0;
       lp[i] = 0.5 * std::pow(m[i] / (ring * rho[i]), 1.0 / Dim);
       if (domains_) s[f.domain][i] = lp[i] * Tensor<Dim>::Identity();
+      if (viscous_) s[f.viscousPressure][i] = 0.0;
     }
   }
 
 private:
-  bool rz_, domains_;
+  bool rz_, domains_, viscous_;
 };
 
 } // namespace spall::methods
