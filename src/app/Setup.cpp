@@ -275,6 +275,16 @@ methods::MethodSetup methodSetup(const Deck& deck) {
                                 "within half a cell (use a cell of at least the spacing, or "
                                 "shape = \"linear\")",
                                 c.cell_size, coarsest));
+  // CPDI's domains start as the points' boxes and are kept within a cell of half-width
+  // (methods/MpmMethod): a box wider than 2 cells would be cut at once, and the domains would no
+  // longer tile the body.
+  if (c.shape == MpmShape::Cpdi && coarsest > 2.0 * c.cell_size * (1.0 + 1e-12))
+    throw DeckError(deck.solver.mpm.where,
+                    fmt::format("solver.mpm.cell_size: {:g} m (after run.resolution) is smaller "
+                                "than half the coarsest body spacing, {:g} m; CPDI keeps a "
+                                "point's domain within a cell of half-width (use a cell of at "
+                                "least half the spacing)",
+                                c.cell_size, coarsest));
   return s;
 }
 

@@ -39,7 +39,7 @@ double fieldValue(const ProbeField& pf, const ParticleStore& s, const ParticleFi
   case ProbeField::Kind::SmoothingLength:
     return s[f.h][i];
   case ProbeField::Kind::Column: {
-    // b: the component, at its place in the particle's row of the snapshot array.
+    // b: the component's place in the particle's stored row (columnProbeNames).
     const ColumnBase& c = *s.columns()[static_cast<std::size_t>(pf.a)];
     if (c.info().scalar == ScalarType::I32) return static_cast<const std::int32_t*>(c.raw())[i];
     if (c.info().scalar == ScalarType::I64)
@@ -52,7 +52,8 @@ double fieldValue(const ProbeField& pf, const ParticleStore& s, const ParticleFi
 }
 
 // A snapshot field of the store: a scalar (double, int32, int64), or a vector or tensor of
-// doubles, whose components are probed as name_x, name_xy (the snapshot array's [n, x, y]).
+// doubles, whose components are probed as name_x and name_xy = T(x, y) (a tensor is stored
+// column-major: the snapshot array's [n, y, x]).
 bool probeableColumn(const ColumnBase& c) {
   const FieldInfo& info = c.info();
   if ((info.flags & kOutput) == 0 || info.scalar == ScalarType::U64) return false;
@@ -62,10 +63,11 @@ bool probeableColumn(const ColumnBase& c) {
 // A column's probe names: its own for a scalar, else one per component.
 std::vector<std::string> columnProbeNames(const FieldInfo& info) {
   if (info.shape.empty()) return {info.name};
+  // In storage order (T(a, b) at b rows + a), so that a name's place is its component's.
   std::vector<std::string> names;
   const int rows = info.shape[0], cols = info.shape.size() > 1 ? info.shape[1] : 1;
-  for (int a = 0; a < rows; ++a)
-    for (int b = 0; b < cols; ++b)
+  for (int b = 0; b < cols; ++b)
+    for (int a = 0; a < rows; ++a)
       names.push_back(info.shape.size() > 1 ? fmt::format("{}_{}{}", info.name, kAxes[a], kAxes[b])
                                             : fmt::format("{}_{}", info.name, kAxes[a]));
   return names;

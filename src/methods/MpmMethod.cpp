@@ -46,16 +46,20 @@ template <int Dim> void MpmMethod<Dim>::start(const RunStart& run) {
   for (const auto& m : modules_) m->initialise(s_, f_, run);
   materials_.evaluate(materialFields());
   const auto& mpm = setup_.solver.mpm;
-  if (mpm.shape == MpmShape::Gimp) {
+  if (mpm.shape != MpmShape::Linear) {
+    // GIMP: the box within half a cell; CPDI: the domain within a cell of half-width.
+    const bool gimp = mpm.shape == MpmShape::Gimp;
     double lpMax = 0.0;
     for (double lp : s_[f_.halfWidth].first(s_.localCount())) lpMax = std::max(lpMax, lp);
     lpMax = mpi_.max(lpMax);
-    if (lpMax > 0.5 * mpm.cell_size * (1.0 + 1e-9))
+    if (lpMax > (gimp ? 0.5 : kDomainLongest) * mpm.cell_size * (1.0 + 1e-9))
       throw DeckError(mpm.where,
                       fmt::format("solver.mpm.cell_size: a point's box (its volume's side, {:g} m) "
-                                  "is wider than the cell, {:g} m; GIMP needs it within half a "
-                                  "cell (a larger cell_size, or shape = \"linear\")",
-                                  2.0 * lpMax, mpm.cell_size));
+                                  "is wider than {}the cell, {:g} m; {} (a larger cell_size, or "
+                                  "shape = \"linear\")",
+                                  2.0 * lpMax, gimp ? "" : "twice ", mpm.cell_size,
+                                  gimp ? "GIMP needs it within half a cell"
+                                       : "CPDI keeps a domain within a cell of half-width"));
   }
   if (!originPlaced_) placeOrigin();
   makeGrid();

@@ -220,6 +220,8 @@ void ParticleMethod<Dim>::forEachBadField(std::size_t i, Visit&& visit) const {
   if (f_.hasStrength()) add(!s_[f_.S][i].allFinite(), "stress");
   if (f_.anisotropic()) add(!s_[f_.H][i].allFinite(), "smoothing");
   // CPDI: a domain turned inside out (det R <= 0) has no weights (MPM's negative Jacobian).
+  if (f_.viscousPressure.valid())
+    add(!std::isfinite(s_[f_.viscousPressure][i]), "viscous_pressure");
   if (f_.domain.valid())
     add(!(s_[f_.domain][i].determinant() > 0.0) || !s_[f_.domain][i].allFinite(),
         "particle_domain");

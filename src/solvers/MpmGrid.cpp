@@ -126,6 +126,13 @@ public:
       if (rz_ && P.x[r][0] < 0.0) {
         P.x[r][0] = -P.x[r][0];
         P.v[r][0] = -P.v[r][0];
+        // CPDI: the domain's mirror image, D R D (D = diag(-1, 1); the second D keeps it
+        // right-handed and its corners the same set).
+        if (!P.domain.empty()) {
+          Tensor<Dim>& R = P.domain[r];
+          R.row(0) = -R.row(0);
+          R.col(0) = -R.col(0);
+        }
       }
     }
   }

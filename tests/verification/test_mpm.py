@@ -28,6 +28,8 @@
   its fixed boxes lose the points' contact as they part 1.5 cells: worst sigma_xx error 28%,
   density 45% (points bunch); the test asserts GIMP's worst beyond 10%, so the deck keeps
   showing what CPDI is for.
+  A probe on a core point samples its domain by component (r_1,x = 3 l_p within 1%), and a
+  sheared, strengthless variant tells R(x, y) from R(y, x) (0.4 l_p against 0).
 - The vibrating bar with CPDI: the same bounds, and the period error's order at least 1.5
   (measured 2.06).
 
@@ -227,10 +229,30 @@ with tempfile.TemporaryDirectory() as tmp:
                 and abs(last["particle_domain_xy"]) < 1e-3 * 0.0125,
                 f"stretching bar (CPDI): the probed core point's domain r_1,x "
                 f"{last['particle_domain_xx']:.5f} (3 l_p = 0.0375), r_2,y "
-                f"{last['particle_domain_yy']:.5f} (0.0125), r_1,y {last['particle_domain_xy']:.1e}")
+                f"{last['particle_domain_yy']:.5f} (0.0125), r_2,x {last['particle_domain_xy']:.1e}")
         t.check(np.median(erho) < 0.005 and erho.max() < 0.05,
                 f"stretching bar (CPDI): density rho0/3, median error {np.median(erho):.2e} "
                 f"(< 0.5%), worst {erho.max():.2e} (< 5%)")
+    # ... sheared as well (v_x += 20 y) and strengthless, so that the stress stays isotropic and
+    # the slip walls carry it: still homogeneous, R = (I + t L_0) l_p, the core point's r_2 =
+    # (0.4 l_p, l_p) and r_1 = (3 l_p, 0): the probe's particle_domain_xy is R(x, y) = 0.005 and
+    # _yx 0 (a transposed component reads them the other way round). Within 5% (the domain
+    # follows the grid's L, which a fluid's shear leaves noisier: measured +2%; 0.1% for the
+    # unsheared elastic bar).
+    sheared = tmp / "stretching_bar_sheared.toml"
+    sheared.write_text(stretch_cpdi.read_text().replace(
+        "gradient = [[100.0, 0.0], [0.0, 0.0]]", "gradient = [[100.0, 20.0], [0.0, 0.0]]").replace(
+        'strength = { type = "elastic", shear_modulus = 30.0 }', "").replace(
+        '"particle_domain_xy"]', '"particle_domain_xy", "particle_domain_yx"]'))
+    out = tmp / "stretch_sheared"
+    if t.run(sheared, out):
+        probes = np.genfromtxt(out / "probes.csv", delimiter=",", names=True, dtype=None,
+                               encoding="utf-8")
+        last = {r["field"]: r["value"] for r in probes if r["time"] == probes["time"].max()}
+        xy, yx = last["particle_domain_xy"], last["particle_domain_yx"]
+        t.check(abs(xy / 0.005 - 1) < 0.05 and abs(yx) < 1e-3 * 0.0125,
+                f"sheared stretching bar (CPDI): probe particle_domain_xy {xy:.6f} (R(x, y) = 0.4 "
+                f"l_p = 0.005), particle_domain_yx {yx:.1e} (0)")
     out = tmp / "stretch_gimp"
     if t.run(stretch, out, 'solver.mpm.shape="gimp"'):
         exx, eyy, erho = stretch_errors(out)

@@ -33,8 +33,8 @@ struct ProbeField {
 
 // Throws DeckError at `where` for a name this dimension does not have. With a store, every
 // snapshot field it holds is a probe field too (the physics modules' fields: plastic_strain,
-// temperature, damage, ...), a vector's or tensor's by component: name_x, name_xy for the
-// snapshot array's [n, x] and [n, x, y] (deformation_gradient_xy, particle_domain_xx, ...).
+// temperature, damage, ...), a vector's or tensor's by component: name_x, and name_xy = T(x, y)
+// as stress_xy is (deformation_gradient_xy = dx/dY, particle_domain_xy = r_2's x).
 ProbeField resolveProbeField(const std::string& name, int dim, const SourceLocation& where,
                              const ParticleStore* store = nullptr);
 // All probe field names available in `dim` dimensions (for messages and `spall check`).

@@ -52,9 +52,9 @@ template <int Dim> struct GridWall {
 template <int Dim> struct MpmParticles {
   std::span<Vec<Dim>> x, v, a;
   std::span<const double> m, rho, p, halfWidth;
-  std::span<const Tensor<3>> S;        // deviatoric stress; empty for fluids
-  std::span<const Tensor<Dim>> domain; // CPDI: each row's half-edge vectors (columns)
-  std::span<const double> q;           // each row's bulk viscosity (a pressure); empty: none
+  std::span<const Tensor<3>> S;  // deviatoric stress; empty for fluids
+  std::span<Tensor<Dim>> domain; // CPDI: each row's half-edge vectors (columns)
+  std::span<const double> q;     // each row's bulk viscosity (a pressure); empty: none
   std::size_t owned = 0;
   std::span<const std::int32_t> field; // each row's velocity field (contact group); empty: one
   // Loads and supports (methods/MpmMethod fills them from the modules' hooks); empty: none.

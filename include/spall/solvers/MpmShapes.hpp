@@ -180,8 +180,10 @@ CpdiWeights<Dim> cpdi(const Vec<Dim>& x, const Tensor<Dim>& R, const Vec<Dim>& o
 // `longest` along a principal axis, or `aspect` times longer than it is wide, becomes the box of
 // the same second moment (int x x^T dV ~ R R^T = U Sigma^2 U^T: R -> U Sigma), its half-widths
 // clamped to [min(sigma_max, longest) / aspect, longest]. The weights' domain only: mass,
-// volume and stress are the point's. Returns whether it did.
+// volume and stress are the point's. Returns whether it did. A domain turned inside out (det R
+// <= 0: its F inverted) is left as it is: the run stops on it, naming the point.
 template <int Dim> bool regulariseDomain(Tensor<Dim>& R, double longest, double aspect) {
+  if (!(R.determinant() > 0.0)) return false;
   const Tensor<Dim> M = R * R.transpose(); // its eigenvalues: the half-widths squared
   const double trace = M.trace(), det = M.determinant();
   const double a2 = aspect * aspect;
@@ -196,7 +198,7 @@ template <int Dim> bool regulariseDomain(Tensor<Dim>& R, double longest, double 
   const auto e = symmetricEigen<Dim>(M);
   const double hi = std::sqrt(std::max(e.values[Dim - 1], 0.0));
   const double lo = std::sqrt(std::max(e.values[0], 0.0));
-  if (hi <= longest && hi <= aspect * lo && R.determinant() > 0.0) return false;
+  if (hi <= longest && hi <= aspect * lo) return false;
   const double top = std::min(hi, longest);
   Tensor<Dim> out;
   for (int k = 0; k < Dim; ++k) {

@@ -283,6 +283,14 @@ template <int Dim> void checkRegularise() {
   }
   EXPECT_GT(kept, 50);
   EXPECT_GT(reset, 50);
+  // Inside out (a reflection of a sliver, and of a fine box): left for the run to stop on.
+  Tensor<Dim> inverted = 1e-3 * Tensor<Dim>::Identity();
+  inverted(0, 0) = -1.5;
+  const Tensor<Dim> copy = inverted;
+  EXPECT_FALSE(mpm::regulariseDomain<Dim>(inverted, longest, aspect));
+  EXPECT_EQ(inverted, copy);
+  inverted = -0.1 * Tensor<Dim>::Identity(); // inside out in 1D and 3D, turned by pi in 2D
+  EXPECT_FALSE(mpm::regulariseDomain<Dim>(inverted, longest, aspect));
 }
 
 } // namespace
