@@ -267,24 +267,20 @@ methods::MethodSetup methodSetup(const Deck& deck) {
   }
   auto& c = s.solver.mpm;
   c.cell_size = c.cell_size > 0.0 ? c.cell_size / deck.run.resolution : 2.0 * finest;
-  // uGIMP's weights hold (partition of unity, C1) for half-widths up to half a cell.
-  if (c.shape == MpmShape::Gimp && coarsest > c.cell_size * (1.0 + 1e-12))
+  // uGIMP's weights hold (partition of unity, C1) for half-widths up to half a cell; CPDI's
+  // domains start as the points' boxes and are kept within a cell of half-width (methods/
+  // MpmMethod): a box wider than 2 cells would be cut at once, and the domains would no longer
+  // tile the body.
+  const bool gimp = c.shape == MpmShape::Gimp;
+  if (c.shape != MpmShape::Linear && coarsest > (gimp ? 1.0 : 2.0) * c.cell_size * (1.0 + 1e-12))
     throw DeckError(deck.solver.mpm.where,
                     fmt::format("solver.mpm.cell_size: {:g} m (after run.resolution) is smaller "
-                                "than the coarsest body spacing, {:g} m; GIMP needs a point's box "
-                                "within half a cell (use a cell of at least the spacing, or "
-                                "shape = \"linear\")",
-                                c.cell_size, coarsest));
-  // CPDI's domains start as the points' boxes and are kept within a cell of half-width
-  // (methods/MpmMethod): a box wider than 2 cells would be cut at once, and the domains would no
-  // longer tile the body.
-  if (c.shape == MpmShape::Cpdi && coarsest > 2.0 * c.cell_size * (1.0 + 1e-12))
-    throw DeckError(deck.solver.mpm.where,
-                    fmt::format("solver.mpm.cell_size: {:g} m (after run.resolution) is smaller "
-                                "than half the coarsest body spacing, {:g} m; CPDI keeps a "
-                                "point's domain within a cell of half-width (use a cell of at "
-                                "least half the spacing)",
-                                c.cell_size, coarsest));
+                                "than {}the coarsest body spacing, {:g} m; {} (use a cell of at "
+                                "least {}the spacing, or shape = \"linear\")",
+                                c.cell_size, gimp ? "" : "half ", coarsest,
+                                gimp ? "GIMP needs a point's box within half a cell"
+                                     : "CPDI keeps a point's domain within a cell of half-width",
+                                gimp ? "" : "half "));
   return s;
 }
 

@@ -173,6 +173,10 @@ def main():
         t = ok + '[solver]\nmethod = "mpm"\nmpm = { cell_size = 1.0e-9 }\n'
         deck_error("mpm_cell_size", t, line_of(t, "mpm =")[0], 7,
                    ["cell_size", "smaller than the coarsest body spacing"], tmp)
+        # ... CPDI's domains start as the boxes and stay within a cell of half-width.
+        t = ok + '[solver]\nmethod = "mpm"\nmpm = { cell_size = 1.0e-9, shape = "cpdi" }\n'
+        deck_error("mpm_cpdi_cell_size", t, line_of(t, "mpm =")[0], 7,
+                   ["cell_size", "smaller than half the coarsest body spacing", "CPDI"], tmp)
         # ... and on the points as made: a 1 mm box at a 0.14 mm spacing holds 7 points 0.143 mm
         # apart, wider than a 0.14 mm cell's half.
         t = replace_line(ok, "spacing = 1.0e-4", "spacing = 1.4e-4")
