@@ -13,7 +13,9 @@ largest stress component of the history: L is rebuilt from F through a product a
 which loses a few digits where L dt is small against F (measured 2e-15; the shear component alone
 3e-13 of its own largest value); the pressure comes out
 exact (the same EOS call on the same density and energy). Also: `spall history` returns the
-recorded table; the recording is the same on 1 and 2 ranks and through a restart (text
+recorded table, and from the snapshots alone (a particle not recorded) the recorded rows at
+the snapshot times (the snapshots store F column-major; read row-major it is F^T, which the
+corner particle's shear tells apart); the recording is the same on 1 and 2 ranks and through a restart (text
 identical). And a cap particle (confined sandstone under a piston, saturated) replayed to
 round-off, its plastic volumetric strain, porosity and pore pressure too; and two P-alpha particles
 of the pumice impact (distension, and damage from the run's own flaws) to round-off. Each
@@ -121,6 +123,27 @@ with tempfile.TemporaryDirectory() as tmp:
             check(strip(table) == strip(two / files[0]),
                   f"particle {pid}: spall history gives the recorded F-table "
                   f"({len(strip(table))} rows)")
+            # ... and from the snapshots' deformation_gradient where the particle was not
+            # recorded: the recorded rows at the snapshot times, line for line (corner particle 0
+            # shears and spins: a transposed F reads differently, checked below).
+            bare = tmp / f"bare_{pid}"
+            if not bare.exists():
+                (bare / "snapshots").mkdir(parents=True)
+                for f in (two / "snapshots").iterdir():
+                    os.symlink(f, bare / "snapshots" / f.name)
+                for f in ("deck.toml", "history.csv"):
+                    if (two / f).exists():
+                        os.symlink(two / f, bare / f)
+            snap_table = tmp / f"snap_history_{pid}.ftable"
+            if spall(["history", bare, "--particle", pid, "--output", snap_table]):
+                recorded = {l.split()[0]: l for l in strip(two / files[0])}
+                rows = strip(snap_table)
+                F = np.array([[float(v) for v in l.split()[1:10]] for l in rows]).reshape(-1, 3, 3)
+                skew = np.max(np.abs(F - F.transpose(0, 2, 1)))
+                check(len(rows) > 1 and all(recorded.get(l.split()[0]) == l for l in rows)
+                      and (pid != 0 or skew > 1e-3),
+                      f"particle {pid}: spall history from the snapshots alone gives the recorded "
+                      f"rows at their {len(rows)} times (F - F^T up to {skew:.1e})")
             out = tmp / f"replay_{pid}.csv"
             if not spall(["element", DECK, "--material", "copper", "--table", table, "--substeps",
                           "1", "--state", two / files[1], "--output", out]):
