@@ -1,0 +1,275 @@
+#pragma once
+// SPH's and ASPH's solver (solvers/SphSolver.hpp's makeSolver): the class, its density, kernel
+// correction and smoothing updates; its force loop is in SphRatesLoop.hpp. Private to
+// src/solvers (one translation unit instantiates it).
+#include "spall/solvers/SphSolver.hpp"
+
+#include "spall/core/SymmetricEigen.hpp"
+#include "spall/kernels/Kernels.hpp"
+#include "spall/kernels/PsiTable.hpp"
+#include "spall/solvers/Axisymmetric.hpp"
+#include "spall/solvers/CrackedPairs.hpp"
+#include "spall/solvers/IdealH.hpp"
+#include "spall/solvers/SphPairTerms.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace spall::solvers::sph {
+
+template <int Dim> double ipow(double x) {
+  if constexpr (Dim == 1)
+    return x;
+  else if constexpr (Dim == 2)
+    return x * x;
+  else
+    return x * x * x;
+}
+
+// What the force loop carries: pressure alone (no material has strength), the full Cauchy stress
+// -p I + S, or the full stress with the corrected kernel gradient B_i grad W.
+enum class Stress { Pressure, Cauchy, CorrectedCauchy };
+
+// Aniso: ASPH (Owen 2010, Sec. II): a symmetric tensor H per particle instead of 1/h, kernels
+// evaluated at eta = |H x| with the normalisation det H, and their gradients
+// grad_x W(|H x|) = det(H) W'(eta) H^T H x / eta. With H = I/h every expression below is the SPH
+// one (unit-tested), so the SPH instantiation keeps its own scalar arithmetic.
+template <int Dim, class K, bool Aniso> class Sph final : public Solver<Dim> {
+  using KW = kernels::Kernel<K, Dim>;
+
+public:
+  Sph(const SolverSetup& setup, ParticleStore& store, const ParticleFields<Dim>& f)
+      : cfg_(setup.config), solid_(setup.solid), failedNoTension_(setup.failedCarriesNoTension),
+        s_(store), f_(f), psi_(kernels::PsiTable::build<KW, Dim>()) {}
+
+  double support() const override { return K::support; }
+  bool usesSummationDensity() const override { return cfg_.density != DensityMethod::Continuity; }
+
+  void computeDensity(const neighbors::NeighborList& nl) override {
+    const auto x = s_[f_.x];
+    const auto h = s_[f_.h];
+    const auto m = planarMass();
+    const auto rho = s_[f_.rho];
+    const std::size_t n = s_.localCount();
+    const bool normalise = cfg_.density == DensityMethod::NormalizedSummation;
+    // Lam et al. (2001) Eq. 25 divides by the kernel sum of volumes m_j/rho_j, which needs the
+    // previous densities of all particles (ghosts included): keep them while rho is overwritten.
+    if (normalise) rhoPrev_.assign(rho.begin(), rho.end());
+    const double W0 = K::sigma() * K::f(0.0);
+    const auto Hs = Aniso ? s_[f_.H] : std::span<Tensor<Dim>>{};
+    for (std::size_t i = 0; i < n; ++i) {
+      const double hinv = 1.0 / h[i];
+      const double norm = Aniso ? Hs[i].determinant() : ipow<Dim>(hinv);
+      double sum = m[i] * W0;
+      double vol = normalise ? m[i] / rhoPrev_[i] * W0 : 0.0;
+      for (std::uint32_t j : nl.of(i)) {
+        const double q = Aniso ? (Hs[i] * (x[i] - x[j])).norm() : (x[i] - x[j]).norm() * hinv;
+        if (q >= K::support) continue;
+        const double w = K::sigma() * K::f(q);
+        sum += m[j] * w;
+        if (normalise) vol += m[j] / rhoPrev_[j] * w;
+      }
+      rho[i] = normalise ? sum / vol : sum * norm;
+    }
+  }
+
+  // Randles & Libersky (1996): M_i = -sum_j V_j x_ij (x) grad_i W_ij is I for a full, even
+  // neighborhood; B_i = M_i^-T makes B_i grad W exact for linear fields whatever the neighbors,
+  // free surfaces included. A particle with neighbors on too few sides to invert M (|det M| <
+  // 0.01: a lone particle, a chain) keeps the plain gradient (B = I), and so does a particle at a
+  // crack (a failed particle or a neighbor of one; so both rows of a cracked pair): the field it
+  // would fit is not linear across an open crack, the cracked pairs it would be normalised over
+  // are left out of its velocity gradient, and a failed particle whose neighbors have flown off
+  // has an ill-conditioned M (the damaged stretching rod launched one at km/s by B times its
+  // contact pressure).
+  void computeKernelCorrection(const neighbors::NeighborList& nl) override {
+    if (!f_.B.valid()) return;
+    const bool cracks = markCracks();
+    const auto x = s_[f_.x];
+    const auto h = s_[f_.h];
+    const auto m = planarMass();
+    const auto rho = s_[f_.rho];
+    const auto B = s_[f_.B];
+    const double sigma = K::sigma();
+    if constexpr (Aniso) prepareAnisoRows();
+    for (std::size_t i = 0; i < s_.localCount(); ++i) {
+      const double hiInv = 1.0 / h[i], gradNormI = sigma * ipow<Dim>(hiInv) * hiInv;
+      Tensor<Dim> M = Tensor<Dim>::Zero();
+      bool atCrack = cracks && cracks_.failed(i);
+      for (std::uint32_t j : nl.of(i)) {
+        if (cracks) atCrack = atCrack || cracks_.failed(j);
+        const Vec<Dim> xij = x[i] - x[j];
+        const double r = xij.norm();
+        if (r == 0.0) continue;
+        Vec<Dim> gradW; // the force loop's gradient
+        if constexpr (Aniso) {
+          gradW = 0.5 * (anisoGradient(i, xij) + anisoGradient(j, xij));
+        } else {
+          const double hjInv = 1.0 / h[j];
+          const double qi = r * hiInv, qj = r * hjInv;
+          const double dWi = qi < K::support ? gradNormI * K::df(qi) : 0.0;
+          const double dWj = qj < K::support ? sigma * ipow<Dim>(hjInv) * hjInv * K::df(qj) : 0.0;
+          gradW = (0.5 * (dWi + dWj) / r) * xij;
+        }
+        M.noalias() -= (m[j] / rho[j]) * (xij * gradW.transpose());
+      }
+      B[i].setIdentity();
+      if (!atCrack && std::abs(M.determinant()) > 1.0e-2)
+        B[i].template topLeftCorner<Dim, Dim>() = M.inverse().transpose();
+    }
+  }
+  bool correctsKernel() const override { return f_.B.valid(); }
+
+  void computeRates(const neighbors::NeighborList& nl) override {
+    if (!f_.hasStrength())
+      ratesLoop<Stress::Pressure>(nl);
+    else if (f_.B.valid())
+      ratesLoop<Stress::CorrectedCauchy>(nl);
+    else
+      ratesLoop<Stress::Cauchy>(nl);
+  }
+
+  // Owen (2010) Eqs. 1-6 (solvers/IdealH.hpp): n_h from the last loop's Psi_0, then h, or H from
+  // the second moments of the same loop.
+  void updateSmoothing() override {
+    const auto h = s_[f_.h];
+    const auto m = planarMass();
+    const auto rho = s_[f_.rho];
+    const auto sumWH = s_[f_.sumWH];
+    const SmoothingLimits lim{cfg_.nodes_per_h, cfg_.h_min,       cfg_.h_max,
+                              cfg_.h_min_ratio, cfg_.h_max_ratio, cfg_.max_aspect_ratio};
+    for (std::size_t i = 0; i < s_.localCount(); ++i) {
+      const double factor = sizeFactor(psi_.nodesPerH(root<Dim>(sumWH[i])), cfg_.nodes_per_h);
+      if constexpr (Aniso) {
+        idealHTensor<Dim>(s_[f_.H][i], h[i], factor, psi2Eta_[i], psi2x_[i], m[i], rho[i], lim);
+      } else {
+        h[i] = idealH<Dim>(h[i], factor, m[i], rho[i], lim);
+      }
+    }
+  }
+
+  std::pair<double, std::size_t> stableTimeStep() const override {
+    const auto h = s_[f_.h];
+    const auto cs = s_[f_.cs];
+    const auto a = s_[f_.a];
+    const auto mu = s_[f_.muMax];
+    const double alpha = cfg_.artificial_viscosity.alpha, beta = cfg_.artificial_viscosity.beta;
+    double dt = std::numeric_limits<double>::infinity();
+    std::size_t which = 0;
+    for (std::size_t i = 0; i < s_.localCount(); ++i) {
+      // Monaghan (1992): signal speed c + 1.2 (alpha c + beta max mu_ij); plus the force limit.
+      const double signal = cs[i] + 1.2 * (alpha * cs[i] + beta * mu[i]);
+      // ASPH: the shortest axis of the smoothing ellipsoid, 1/lambda_max(H).
+      const double hi = Aniso ? 1.0 / largestEigenvalue<Dim>(s_[f_.H][i]) : h[i];
+      double dti = signal > 0.0 ? hi / signal : std::numeric_limits<double>::infinity();
+      const double an = a[i].norm();
+      if (an > 0.0) dti = std::min(dti, std::sqrt(hi / an));
+      if (dti < dt) dt = dti, which = i;
+    }
+    return {cfg_.cfl * dt, which};
+  }
+
+  double nodesPerH(std::size_t i) const override {
+    return psi_.nodesPerH(root<Dim>(s_[f_.sumWH][i]));
+  }
+
+private:
+  // Lam et al. (2001) Eqs. 20-21 in tensor form, dv_i/dt = sum_j m_j (sigma_i/rho_i^2 +
+  // sigma_j/rho_j^2 - Pi_ij I) . grad_i W_ij, with sigma = -p I + S. Hydro decks have S = 0, so
+  // the contraction is the scalar pressure term below (strength adds S in its own instantiation).
+  // RhoProduct replaces the bracket by (sigma_i + sigma_j)/(rho_i rho_j): at an interface with
+  // a density ratio of ~8 (copper/PMMA) the rho^2 form lets the heavy particles penetrate the
+  // light ones under tension, this one does not. The energy rate below is the matching one, so
+  // either form conserves total energy exactly in the semi-discrete sense.
+  // grad_i W_ij is the average of both supports' gradients, which keeps the pair force
+  // antisymmetric (momentum conserved to round-off) for unequal h.
+  // With the corrected kernel gradient (Bonet & Lok 1999) every grad W that multiplies a
+  // particle's own quantity becomes B grad W with that particle's B: sigma_i/rho_i^2 B_i grad W +
+  // sigma_j/rho_j^2 B_j grad W. The pair force stays antisymmetric (momentum is conserved), and
+  // e_i's own share -sigma_i/rho_i^2 : (m_j v_ij (x) B_i grad W) is sigma_i : L_i/rho_i with the
+  // same corrected L_i, so total energy stays conserved pair by pair too. At a free surface the
+  // plain form under-reads the stress divergence, and the velocity divergence that drives the
+  // density, by the missing part of the support: a clamped plate bends 20% too easily with
+  // 10 particles through its thickness (elastic_plate_2d); corrected, it is within a few percent.
+  // The Balsara switch and the product form are per-particle factors (rowScratch_), not
+  // instantiations.
+  template <Stress Mode> void ratesLoop(const neighbors::NeighborList& nl);
+
+  // ---- ASPH -------------------------------------------------------------------------------
+  struct AnisoRow {
+    Tensor<Dim> G;   // H^T H, the metric of eta: eta^2 = x . G x
+    double normGrad; // sigma det H, the kernel's normalisation
+  };
+  // H^T H and sigma det H of every row, ghosts included, once per loop (what the pair loop
+  // gathers of a neighbor, packed).
+  void prepareAnisoRows() {
+    const auto Hs = s_[f_.H];
+    anisoRow_.resize(s_.size());
+    for (std::size_t j = 0; j < s_.size(); ++j)
+      anisoRow_[j] = {Hs[j].transpose() * Hs[j], K::sigma() * Hs[j].determinant()};
+  }
+  // grad_x W(|H_k x|) at x = x_ij with row k's tensor: det(H) W'(eta) H^T H x / eta.
+  Vec<Dim> anisoGradient(std::size_t k, const Vec<Dim>& xij) const {
+    const AnisoRow& row = anisoRow_[k];
+    const Vec<Dim> g = row.G * xij;
+    const double eta = std::sqrt(xij.dot(g));
+    if (eta >= K::support || eta == 0.0) return Vec<Dim>::Zero();
+    return (row.normGrad * K::df(eta) / eta) * g;
+  }
+
+  // The mass the planar loops weigh a row with: m, or in rz the ring's area mass m/(2 pi r) (of
+  // every row, ghosts and axis images included; solvers/Axisymmetric.hpp).
+  std::span<const double> planarMass() {
+    const auto m = s_[f_.m];
+    if (cfg_.geometry != Geometry::RZ) return m;
+    const auto x = s_[f_.x];
+    const auto h = s_[f_.h];
+    areaMass_.resize(s_.size());
+    ringR_.resize(s_.size());
+    for (std::size_t j = 0; j < s_.size(); ++j) {
+      ringR_[j] = rz::radius(x[j][0], h[j]);
+      areaMass_[j] = rz::areaMass(m[j], ringR_[j]);
+    }
+    return areaMass_;
+  }
+  std::vector<double> areaMass_, ringR_; // rz: mu and R of every row
+
+  SolverConfig cfg_;
+  std::vector<bool> solid_;           // by material: has strength
+  std::vector<bool> failedNoTension_; // by material: a failed particle carries no tension
+  CrackedPairs<Dim> cracks_;          // the failed rows and their neighbors
+  struct RowScratch {
+    double hInv, gradNorm, vol;
+    double q, s;    // the pressure term's per-row factors (see ratesLoop)
+    double balsara; // Balsara (1995) factor, 1 when the switch is off
+  };
+  std::vector<RowScratch> rowScratch_;        // scratch of the force loop
+  std::vector<Tensor<Dim>> sOverRho_;         // scratch of the force loop (solids)
+  std::vector<Tensor<Dim>> artificialStress_; // R of every row (solids, when enabled)
+  std::vector<Tensor<Dim>> strainRate_;       // sym L of every row (reconstructed viscosity)
+  std::vector<double> isochoric_;             // pair::isochoricGate of every row
+  // Marks the failed rows (ghosts included); whether any row failed at all.
+  bool markCracks() {
+    if (failedNoTension_.empty() || !f_.hasDamage()) return false;
+    return cracks_.mark(s_[f_.damage], s_[f_.material], failedNoTension_);
+  }
+  // Out of line: the pair loop is register-bound, and only approaching pairs call it.
+  [[gnu::noinline]] double reconstructedApproach(double vr, const Vec<Dim>& xij, std::size_t i,
+                                                 std::size_t j, double q) const {
+    return pair::reconstructedApproach(vr, xij.dot(strainRate_[i] * xij),
+                                       xij.dot(strainRate_[j] * xij), q, 1.0 / cfg_.nodes_per_h,
+                                       0.5 * (isochoric_[i] + isochoric_[j]));
+  }
+  ParticleStore& s_;
+  ParticleFields<Dim> f_;
+  kernels::PsiTable psi_;
+  std::vector<double> rhoPrev_;
+  std::vector<double> divNew_, curlNew_; // this loop's div v, |curl v| (Balsara), owned rows
+  std::vector<AnisoRow> anisoRow_;       // scratch of the ASPH loops
+  // Second moments of the last force loop, owned rows, for the next updateSmoothing (no
+  // migration in between): Eq. 5 in the eta frame of H_i, and the physical-frame one of the axes.
+  std::vector<Tensor<Dim>> psi2Eta_, psi2x_;
+};
+
+} // namespace spall::solvers::sph
