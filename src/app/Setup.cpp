@@ -179,9 +179,8 @@ std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck
   const bool mpm = solver.method == "mpm"; // no pair loop: no viscosity, correction, contact
   list.push_back(std::make_unique<methods::Hydro<Dim>>());
   if (mpm)
-    list.push_back(std::make_unique<methods::MaterialPoints<Dim>>(
-        deck.run.geometry == Geometry::RZ, solver.mpm.shape == MpmShape::Cpdi,
-        solver.mpm.viscous()));
+    list.push_back(std::make_unique<methods::MaterialPoints<Dim>>(deck.run.geometry == Geometry::RZ,
+                                                                  solver.mpm));
   if (solver.artificial_viscosity.balsara && !mpm)
     list.push_back(std::make_unique<methods::BalsaraSwitch<Dim>>());
   if (solids)
@@ -288,11 +287,13 @@ std::string methodSummary(const Deck& deck) {
   const auto& s = deck.solver;
   if (s.method == "mpm") {
     const auto m = methodSetup(deck).solver.mpm;
-    return fmt::format("mpm {} cell {:.4g} m flip {:g}",
+    return fmt::format("mpm {} cell {:.4g} m {}",
                        m.shape == MpmShape::Linear ? "linear"
                        : m.shape == MpmShape::Cpdi ? "cpdi"
                                                    : "gimp",
-                       m.cell_size, m.flip);
+                       m.cell_size,
+                       m.transfer == MpmTransfer::Apic ? std::string("apic")
+                                                       : fmt::format("flip {:g}", m.flip));
   }
   return fmt::format("{} {} n_h {:g} | density {}", s.method, kernelName(s.kernel), s.nodes_per_h,
                      densityName(s.density));

@@ -80,7 +80,7 @@ const std::map<std::string, Names, std::less<>>& schema() {
        {"method", "kernel", "nodes_per_h", "cfl", "allow_unstable_cfl", "density",
         "artificial_viscosity", "h_min", "h_max", "h_min_ratio", "h_max_ratio", "max_aspect_ratio",
         "stress_form", "artificial_stress", "velocity_gradient", "contact", "mpm"}},
-      {"solver.mpm", {"cell_size", "shape", "flip", "viscosity"}},
+      {"solver.mpm", {"cell_size", "shape", "transfer", "flip", "viscosity"}},
       {"solver.mpm.viscosity", {"linear", "quadratic"}},
       {"solver.artificial_viscosity", {"alpha", "beta", "balsara", "reconstruction"}},
       {"solver.artificial_stress", {"epsilon", "exponent"}},

@@ -30,9 +30,15 @@ void readSolver(const TableReader& r, SolverConfig& s) {
     s.mpm.shape = shape == "linear" ? MpmShape::Linear
                   : shape == "cpdi" ? MpmShape::Cpdi
                                     : MpmShape::Gimp;
-    s.mpm.flip = mp.number("flip").value_or(s.mpm.flip);
-    mp.check(s.mpm.flip >= 0.0 && s.mpm.flip <= 1.0, "flip", "in [0, 1] (1: FLIP, 0: PIC)",
-             s.mpm.flip);
+    s.mpm.transfer = mp.choice("transfer", {"flip", "apic"}, "flip") == "apic" ? MpmTransfer::Apic
+                                                                               : MpmTransfer::Flip;
+    if (const auto f = mp.number("flip")) {
+      mp.check(*f >= 0.0 && *f <= 1.0, "flip", "in [0, 1] (1: FLIP, 0: PIC)", *f);
+      if (s.mpm.transfer == MpmTransfer::Apic && *f != 1.0)
+        mp.fail("flip", mp.quoted("flip") + " blends FLIP with PIC; transfer = \"apic\" is "
+                                            "neither (PIC's velocity with an affine part)");
+      s.mpm.flip = *f;
+    }
     if (const auto* v = mp.subtable("viscosity")) {
       const TableReader q = TableReader(*v, mp.context().child("viscosity"), mp.deckPath());
       q.allowOnly(*schemaKeys("solver.mpm.viscosity"));

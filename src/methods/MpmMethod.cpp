@@ -28,6 +28,7 @@ MpmMethod<Dim>::MpmMethod(const parallel::MpiContext& mpi, MethodSetup setup,
       setup_(std::move(setup)) {
   haloFields_ = store.columnsWith(kHalo);
   velocityField_ = {f.v.index};
+  if (f.affine.valid()) velocityField_.push_back(f.affine.index);
   fixedBodies_ = setup_.fixedBodies;
   std::sort(fixedBodies_.begin(), fixedBodies_.end());
   loaded_ = !fixedBodies_.empty() || f.confiningPressure.valid() ||
@@ -316,6 +317,7 @@ template <int Dim> solvers::MpmParticles<Dim> MpmMethod<Dim>::particles() {
   if (f_.hasStrength()) P.S = s_[f_.S].first(rows);
   if (f_.domain.valid()) P.domain = s_[f_.domain].first(rows);
   if (f_.viscousPressure.valid()) P.q = s_[f_.viscousPressure].first(rows);
+  if (f_.affine.valid()) P.affine = s_[f_.affine].first(rows);
   P.owned = s_.localCount();
   // contact "frictionless": a velocity field per body (solvers/MpmGrid; "auto" is one field).
   if (f_.contactGroup.valid()) P.field = s_[f_.contactGroup].first(rows);

@@ -222,6 +222,7 @@ void ParticleMethod<Dim>::forEachBadField(std::size_t i, Visit&& visit) const {
   // CPDI: a domain turned inside out (det R <= 0) has no weights (MPM's negative Jacobian).
   if (f_.viscousPressure.valid())
     add(!std::isfinite(s_[f_.viscousPressure][i]), "viscous_pressure");
+  if (f_.affine.valid()) add(!s_[f_.affine][i].allFinite(), "affine_velocity");
   if (f_.domain.valid())
     add(!(s_[f_.domain][i].determinant() > 0.0) || !s_[f_.domain][i].allFinite(),
         "particle_domain");

@@ -47,13 +47,18 @@ public:
       rigid_.assign(N, 0), rigidV_.assign(N, Vec<Dim>::Zero());
     else
       rigid_.clear();
-    const bool solid = !P.S.empty(), viscous = !P.q.empty();
+    const bool solid = !P.S.empty(), viscous = !P.q.empty(), affine = !P.affine.empty();
+    if (affine) { // each node's place (with contact, each field's)
+      X_.resize(N);
+      for (std::size_t I = 0; I < N; ++I) X_[I] = place(key_[lattice(I)]);
+    }
     for (const std::uint32_t r : order) {
       const double p = viscous ? P.p[r] + P.q[r] : P.p[r];
       Tensor<Dim> sigma = -p * Tensor<Dim>::Identity();
       if (solid) sigma += P.S[r].template topLeftCorner<Dim, Dim>();
       const double V = P.m[r] / P.rho[r];
       const Vec<Dim> mv = P.m[r] * P.v[r];
+      const Tensor<Dim> mC = affine ? Tensor<Dim>(P.m[r] * P.affine[r]) : Tensor<Dim>::Zero();
       // rz: the hoop stress's share of the radial force, sigma_tt S / r (the weak form's
       // 2 pi r dA is in the ring's mass and volume).
       Vec<Dim> hoop = Vec<Dim>::Zero();
@@ -62,7 +67,10 @@ public:
       for (std::size_t e = from(r); e < to(r); ++e) {
         const std::uint32_t I = node_[e];
         mass_[I] += S_[e] * P.m[r];
-        momentum_[I] += S_[e] * mv;
+        if (affine)
+          momentum_[I] += S_[e] * (mv + mC * (X_[I] - P.x[r]));
+        else
+          momentum_[I] += S_[e] * mv;
         force_[I] -= V * (sigma * grad_[e] + S_[e] * hoop);
         if (multi_) gradV_[I] += V * grad_[e], volume_[I] += S_[e] * V;
         if (external) force_[I] += (S_[e] * P.m[r]) * P.aExt[r];
@@ -106,6 +114,9 @@ public:
       radius_.resize(P.owned);
       for (std::size_t r = 0; r < P.owned; ++r) radius_[r] = radius(P, r);
     }
+    // APIC: the owned rows' positions at the step's start, where the remap's affine part is
+    // taken (the ghosts keep theirs: only owned rows move here).
+    if (affine) start_.assign(P.x.begin(), P.x.begin() + static_cast<std::ptrdiff_t>(P.owned));
     const double flip = c_.flip;
     for (std::size_t r = 0; r < P.owned; ++r) {
       if (rigid && P.rigid[r]) { // a fixed body moves at its own velocity
@@ -120,7 +131,15 @@ public:
       }
       P.x[r] += dt * vPic;
       P.a[r] = dv / dt;
-      P.v[r] = flip * (P.v[r] + dv) + (1.0 - flip) * vPic;
+      if (affine) { // APIC: PIC's velocity and the grid's gradient of it
+        Tensor<Dim> C = Tensor<Dim>::Zero();
+        for (std::size_t e = from(r); e < to(r); ++e)
+          C += velocity_[node_[e]] * grad_[e].transpose();
+        P.v[r] = vPic;
+        P.affine[r] = C;
+      } else {
+        P.v[r] = flip * (P.v[r] + dv) + (1.0 - flip) * vPic;
+      }
       // rz: the axis nodes keep v_r = 0, but a point's box reaches past them; one that would
       // cross the axis is folded back, as SPH's rings are.
       if (rz_ && P.x[r][0] < 0.0) {
@@ -133,6 +152,11 @@ public:
           R.row(0) = -R.row(0);
           R.col(0) = -R.col(0);
         }
+        if (affine) { // the velocity field's mirror image: C_rz, C_zr change sign
+          Tensor<Dim>& C = P.affine[r];
+          C.row(0) = -C.row(0);
+          C.col(0) = -C.col(0);
+        }
       }
     }
   }
@@ -141,8 +165,16 @@ public:
                         std::span<Tensor<3>> L) override {
     const std::size_t N = fields();
     momentum_.assign(N, Vec<Dim>::Zero());
+    const bool affine = !P.affine.empty();
     for (const std::uint32_t r : order) {
       const Vec<Dim> mv = P.m[r] * P.v[r];
+      if (affine) { // the affine part about the point's place on these weights' grid
+        const Tensor<Dim> mC = P.m[r] * P.affine[r];
+        const Vec<Dim>& xp = r < P.owned ? start_[r] : P.x[r];
+        for (std::size_t e = from(r); e < to(r); ++e)
+          momentum_[node_[e]] += S_[e] * (mv + mC * (X_[node_[e]] - xp));
+        continue;
+      }
       for (std::size_t e = from(r); e < to(r); ++e) {
         momentum_[node_[e]] += S_[e] * mv;
       }
@@ -384,6 +416,14 @@ private:
       return begin_[r + 1];
   }
 
+  // A lattice node's place.
+  Vec<Dim> place(const Key& k) const {
+    Vec<Dim> X;
+    for (int a = 0; a < Dim; ++a)
+      X[a] = origin_[a] + static_cast<double>(k[static_cast<std::size_t>(a)]) * c_.cell_size;
+    return X;
+  }
+
   // Entry e's (of row r) lattice node.
   Key keyOf(std::size_t r, std::size_t e) const {
     if constexpr (!kBlock) {
@@ -436,9 +476,7 @@ private:
   // symmetry plane still meet there).
   double capacity(std::size_t L) const {
     const double hc = c_.cell_size;
-    Vec<Dim> X;
-    for (int a = 0; a < Dim; ++a)
-      X[a] = origin_[a] + static_cast<double>(key_[L][static_cast<std::size_t>(a)]) * hc;
+    const Vec<Dim> X = place(key_[L]);
     double C =
         rz_ ? 2.0 * std::numbers::pi * hc * hc * std::max(X[0], hc / 6.0) : std::pow(hc, Dim);
     for (const auto& w : walls_) {
@@ -451,9 +489,7 @@ private:
   void constrain(std::size_t I, Vec<Dim>& v) const { constrainAt(key_[lattice(I)], v); }
   void constrainAt(const Key& k, Vec<Dim>& v) const {
     if (walls_.empty()) return;
-    Vec<Dim> X;
-    for (int a = 0; a < Dim; ++a)
-      X[a] = origin_[a] + static_cast<double>(k[static_cast<std::size_t>(a)]) * c_.cell_size;
+    const Vec<Dim> X = place(k);
     for (const auto& w : walls_)
       if ((X - w.point).dot(w.normal) <= 1e-9 * c_.cell_size) v -= v.dot(w.normal) * w.normal;
   }
@@ -461,8 +497,9 @@ private:
   MpmConfig c_;
   Vec<Dim> origin_;
   std::vector<GridWall<Dim>> walls_;
-  bool rz_;                    // axisymmetric: x = r, y = z, the points rings
-  std::vector<double> radius_; // rz: the owned rings' radii for the hoop rate
+  bool rz_;                         // axisymmetric: x = r, y = z, the points rings
+  std::vector<double> radius_;      // rz: the owned rings' radii for the hoop rate
+  std::vector<Vec<Dim>> start_, X_; // APIC: the owned rows' places at the step's start; the nodes'
   // Per row its entries [begin_[r], begin_[r + 1]) (a block: r K + q), and per entry the node's
   // number (with contact, its (node, field) pair's), S and grad S; CPDI's lattice node.
   std::vector<std::size_t> begin_;

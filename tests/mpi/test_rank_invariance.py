@@ -93,7 +93,9 @@ CASES = [("sod_1d.toml", []), ("rod_impact_copper.toml", ["run.end_time=6e-6"]),
          # MPM: every grid node sums its points in id order on whichever ranks hold them; 1D with
          # a wall node, 2D through the disks' impact, 3D with Johnson-Cook against the wall
          ("vibrating_bar_mpm_1d.toml", ["run.end_time=10"]),
-         ("two_disks_mpm_2d.toml", []),
+         # ... the disks with APIC: each point's velocity gradient C_p to its ghosts, in the P2G
+         # and the remap
+         ("two_disks_mpm_2d.toml", ['solver.mpm.transfer="apic"']),
          # ... frictionless contact: a velocity field per disk, the contact at each node summed
          # over its fields in field order
          ("glancing_disks_mpm_2d.toml", ["run.end_time=2.5"]),

@@ -254,10 +254,12 @@ with tempfile.TemporaryDirectory() as tmp:
                           "pumice impact with elastic distension, restart mid-compaction")
 
     # MPM mid-impact: the grid's origin is checkpointed, the grid itself made afresh from the
-    # points (their half-widths checkpointed); 2D disks at step 200 of 440, the 3D Taylor bar
-    # against its wall (Johnson-Cook) at step 100.
-    stopped_and_restarted(SRC / "decks/two_disks_mpm_2d.toml", 2, tmp / "mpm_disks", [], 200,
-                          "two disks (MPM), 2 ranks, restart mid-impact")
+    # points (their half-widths checkpointed); 2D disks at step 200 of 440 with APIC (each
+    # point's velocity gradient C_p, affine_velocity, checkpointed), the 3D Taylor bar against
+    # its wall (Johnson-Cook) at step 100.
+    stopped_and_restarted(SRC / "decks/two_disks_mpm_2d.toml", 3, tmp / "mpm_disks_apic",
+                          ['solver.mpm.transfer="apic"'], 200,
+                          "two disks (MPM, APIC), 3 ranks, restart mid-impact")
     stopped_and_restarted(SRC / "decks/glancing_disks_mpm_2d.toml", 3, tmp / "mpm_glancing", [],
                           200, "glancing disks (MPM, frictionless contact), 3 ranks, restart "
                           "mid-impact")

@@ -80,6 +80,9 @@ template <int Dim> struct ParticleFields {
   // [solver.mpm] viscosity: the bulk viscosity q the point's stress carries in the next step's
   // grid force (from the last step's rate of deformation: methods/MpmMethod).
   Field<double> viscousPressure;
+  // [solver.mpm] transfer = "apic": the point's velocity gradient C_p, its velocity field
+  // v_p + C_p (x - x_p) about it (snapshots: affine_velocity[n, b, a] = C_ab).
+  Field<Tensor<Dim>> affine;
 
   bool anisotropic() const { return H.valid(); }
   bool hasStrength() const { return S.valid(); }

@@ -80,10 +80,16 @@ enum class MpmShape {
   Cpdi    // CPDI1: the tent averaged over the particle's deformed domain, a parallelogram
           // (parallelepiped) that follows F (Sadeghirad, Brannon & Burghardt 2011)
 };
+// How the grid's velocities return to the points (MpmGrid.hpp).
+enum class MpmTransfer {
+  Flip, // the grid's velocity change (FLIP), blended with its velocity (PIC) by `flip`
+  Apic  // the grid's velocity and its gradient, an affine field per point (Jiang et al. 2015)
+};
 struct MpmConfig {
   double cell_size = 0.0; // m; 0: twice the finest body spacing (io/Deck resolves it)
   MpmShape shape = MpmShape::Gimp;
-  double flip = 1.0; // 1: FLIP velocity update, 0: PIC, between: the blend
+  MpmTransfer transfer = MpmTransfer::Flip;
+  double flip = 1.0; // Flip: 1 is FLIP's velocity update, 0 PIC's, between the blend
   // The bulk viscosity q = rho (C_Q (l tr D)^2 - C_L l c tr D) in compression (tr D < 0), l the
   // cell size (von Neumann & Richtmyer 1950; Landshoff's linear term): 0, 0 is none.
   double viscosity_linear = 0.0, viscosity_quadratic = 0.0;

@@ -7,7 +7,15 @@
 //         external forces sum_p S_Ip m_p a_p,ext in f_I; a fixed body's nodes its velocity)
 //   G2P   v_p <- flip (v_p + sum S_Ip (v^L_I - v_I)) + (1 - flip) sum S_Ip v^L_I,
 //         x_p <- x_p + dt sum S_Ip v^L_I
-//   remap v_I = sum_p S_Ip m_p v_p / m_I  (the new particle velocities: MUSL)
+//         APIC (transfer = "apic"; Jiang, Schroeder, Selle, Teran & Stomakhin 2015): each point
+//         carries the affine field v_p + C_p (x - x_p); P2G's momentum is
+//         sum_p S_Ip m_p (v_p + C_p (x_I - x_p)), and G2P sets v_p <- sum S_Ip v^L_I and
+//         C_p <- sum v^L_I (x) grad S_Ip (Jiang et al.'s B_p D_p^-1 for the tent; the same
+//         gradient for GIMP and CPDI). An affine grid velocity returns exactly (the weights are
+//         linearly complete): no PIC smearing of a stretch or a spin, while the modes the grid
+//         cannot carry (FLIP's ringing) are filtered as PIC filters them.
+//   remap v_I = sum_p S_Ip m_p v_p / m_I  (the new particle velocities: MUSL; APIC's with the
+//         affine part about the points' places at the step's start)
 //   L_p = sum_I v_I (x) grad S_Ip, which the material update takes for dt.
 //
 // The grid is an unbounded lattice X = origin + k hc: only nodes some particle touches exist
@@ -55,6 +63,7 @@ template <int Dim> struct MpmParticles {
   std::span<const Tensor<3>> S;  // deviatoric stress; empty for fluids
   std::span<Tensor<Dim>> domain; // CPDI: each row's half-edge vectors (columns)
   std::span<const double> q;     // each row's bulk viscosity (a pressure); empty: none
+  std::span<Tensor<Dim>> affine; // APIC: each row's velocity gradient C_p; empty: FLIP
   std::size_t owned = 0;
   std::span<const std::int32_t> field; // each row's velocity field (contact group); empty: one
   // Loads and supports (methods/MpmMethod fills them from the modules' hooks); empty: none.

@@ -578,6 +578,18 @@ TEST_F(DeckTest, MpmTakesItsTableAndRefusesWhatItCannotDoYet) {
   expectError(withLine(kDeck1D, 7, "method = \"mpm\"\nmpm = { shape = \"bspline\" }"), 8, 17,
               "linear, gimp, cpdi");
   expectError(withLine(kDeck1D, 7, "method = \"mpm\"\nmpm = { flip = 1.5 }"), 8, 16, "in [0, 1]");
+  // The transfer: FLIP (the blend) by default, or APIC, which no flip blends (flip = 1 is
+  // FLIP's default, harmless in a deck that switches to APIC with --set).
+  EXPECT_EQ(load(withLine(kDeck1D, 7, "method = \"mpm\"")).solver.mpm.transfer,
+            spall::MpmTransfer::Flip);
+  EXPECT_EQ(
+      load(withLine(kDeck1D, 7, "method = \"mpm\"\nmpm = { transfer = \"apic\", flip = 1.0 }"))
+          .solver.mpm.transfer,
+      spall::MpmTransfer::Apic);
+  expectError(withLine(kDeck1D, 7, "method = \"mpm\"\nmpm = { transfer = \"apic\", flip = 0.9 }"),
+              8, 35, "transfer = \"apic\" is neither");
+  expectError(withLine(kDeck1D, 7, "method = \"mpm\"\nmpm = { transfer = \"pic\" }"), 8, 20,
+              "flip, apic");
   {
     const auto q = load(withLine(kDeck1D, 7,
                                  "method = \"mpm\"\nmpm = { viscosity = { linear = 0.2, "

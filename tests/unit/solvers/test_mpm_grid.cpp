@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
 #include <random>
@@ -321,6 +322,7 @@ struct Cloud {
   std::vector<Tensor<3>> S;
   std::vector<std::uint64_t> id;
   std::vector<Tensor<2>> R; // CPDI's domains: stretched, sheared and turned, up to 1.2 cells
+  std::vector<Tensor<2>> C; // APIC's velocity gradients
 };
 
 Cloud cloud(std::size_t n) {
@@ -347,6 +349,9 @@ Cloud cloud(std::size_t n) {
     Q << cs, -sn, sn, cs;
     U << 0.1 + 0.8 * u(rng), 0.3 * (u(rng) - 0.5), 0.0, 0.1 + 0.4 * u(rng);
     c.R.push_back(Q * U);
+    Tensor<2> C;
+    C << u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5;
+    c.C.push_back(C);
   }
   return c;
 }
@@ -364,6 +369,7 @@ double extent(const Cloud& c, MpmShape shape) {
 struct Result {
   std::vector<Vec<2>> x, v;
   std::vector<Tensor<3>> L;
+  std::vector<Tensor<2>> C;
 };
 
 Result step(const Cloud& all, const std::vector<std::size_t>& rows, std::size_t owned,
@@ -380,6 +386,7 @@ Result step(const Cloud& all, const std::vector<std::size_t>& rows, std::size_t 
     c.S.push_back(all.S[r]);
     c.id.push_back(all.id[r]);
     c.R.push_back(all.R[r]);
+    c.C.push_back(all.C[r]);
   }
   std::vector<std::uint32_t> order(rows.size());
   std::iota(order.begin(), order.end(), 0u);
@@ -387,11 +394,14 @@ Result step(const Cloud& all, const std::vector<std::size_t>& rows, std::size_t 
   auto grid = makeMpmGrid<2>(config, Vec<2>(0.0, 0.0), {});
   auto P = points<2>(c.x, c.v, c.a, c.m, c.rho, c.p, c.lp, c.S, owned);
   P.domain = c.R;
+  if (config.transfer == MpmTransfer::Apic) P.affine = c.C;
   grid->project(P, order, 0.01);
   std::vector<Tensor<3>> L(owned);
   grid->velocityGradient(P, order, L);
-  return {std::vector<Vec<2>>(c.x.begin(), c.x.begin() + static_cast<long>(owned)),
-          std::vector<Vec<2>>(c.v.begin(), c.v.begin() + static_cast<long>(owned)), L};
+  const auto end = static_cast<long>(owned);
+  return {std::vector<Vec<2>>(c.x.begin(), c.x.begin() + end),
+          std::vector<Vec<2>>(c.v.begin(), c.v.begin() + end), L,
+          std::vector<Tensor<2>>(c.C.begin(), c.C.begin() + end)};
 }
 
 } // namespace
@@ -409,9 +419,11 @@ TEST(MpmGrid, StepConservesMomentum) {
     before += c.m[i] * c.v[i];
     scale += c.m[i] * c.v[i].norm();
   }
-  for (double flip : {1.0, 0.0, 0.95}) {
+  // APIC's too: its affine part adds sum_I S_Ip m_p C_p (x_I - x_p) = 0 (linear completeness).
+  for (double flip : {1.0, 0.0, 0.95, -1.0}) { // -1: APIC
     for (MpmShape shape : {MpmShape::Linear, MpmShape::Gimp, MpmShape::Cpdi}) {
-      const MpmConfig config = gridConfig(1.0, shape, flip);
+      MpmConfig config = gridConfig(1.0, shape, std::max(flip, 0.0));
+      if (flip < 0.0) config.transfer = MpmTransfer::Apic;
       const Result r = step(c, rows, rows.size(), config);
       Vec<2> after = Vec<2>::Zero();
       for (std::size_t i = 0; i < c.x.size(); ++i) after += c.m[i] * r.v[i];
@@ -426,9 +438,12 @@ TEST(MpmGrid, AnOwnedPointsStepIgnoresEverythingBeyondTheHaloAndTheRowOrder) {
   // step exactly as in the full grid: every node they touch sums the same points in id order.
   // For the velocity gradient the ghosts' new velocities are those of the full step (what the
   // halo refresh delivers).
+  // With APIC the ghosts carry their C_p into the P2G and, refreshed, into the remap.
   const Cloud c = cloud(400);
-  for (MpmShape shape : {MpmShape::Linear, MpmShape::Gimp, MpmShape::Cpdi}) {
-    const MpmConfig config = gridConfig(1.0, shape, 1.0);
+  for (int k = 0; k < 6; ++k) {
+    const MpmShape shape = std::array{MpmShape::Linear, MpmShape::Gimp, MpmShape::Cpdi}[k % 3];
+    MpmConfig config = gridConfig(1.0, shape, 1.0);
+    if (k >= 3) config.transfer = MpmTransfer::Apic;
     const double reach = makeMpmGrid<2>(config, Vec<2>::Zero(), {})->haloReach(extent(c, shape));
     std::vector<std::size_t> all(c.x.size());
     std::iota(all.begin(), all.end(), 0u);
@@ -453,7 +468,7 @@ TEST(MpmGrid, AnOwnedPointsStepIgnoresEverythingBeyondTheHaloAndTheRowOrder) {
     std::vector<double> m, rho, p, lp;
     std::vector<Tensor<3>> S;
     std::vector<std::uint64_t> id;
-    std::vector<Tensor<2>> R;
+    std::vector<Tensor<2>> R, C;
     for (std::size_t r : rows) {
       x.push_back(c.x[r]);
       v.push_back(c.v[r]);
@@ -465,6 +480,7 @@ TEST(MpmGrid, AnOwnedPointsStepIgnoresEverythingBeyondTheHaloAndTheRowOrder) {
       S.push_back(c.S[r]);
       id.push_back(c.id[r]);
       R.push_back(c.R[r]);
+      C.push_back(c.C[r]);
     }
     std::vector<std::uint32_t> order(rows.size());
     std::iota(order.begin(), order.end(), 0u);
@@ -472,18 +488,63 @@ TEST(MpmGrid, AnOwnedPointsStepIgnoresEverythingBeyondTheHaloAndTheRowOrder) {
     auto grid = makeMpmGrid<2>(config, Vec<2>::Zero(), {});
     auto P = points<2>(x, v, a, m, rho, p, lp, S, owned.size());
     P.domain = R;
+    if (k >= 3) P.affine = C;
     grid->project(P, order, 0.01);
     for (std::size_t k = 0; k < owned.size(); ++k) {
       const std::size_t fullRow = c.x.size() - 1 - owned[k]; // `all` is reversed
       EXPECT_EQ(x[k], full.x[fullRow]) << k;
       EXPECT_EQ(v[k], full.v[fullRow]) << k;
+      EXPECT_EQ(C[k], full.C[fullRow]) << k;
     }
-    for (std::size_t k = owned.size(); k < rows.size(); ++k)
+    for (std::size_t k = owned.size(); k < rows.size(); ++k) {
       v[k] = full.v[c.x.size() - 1 - rows[k]];
+      C[k] = full.C[c.x.size() - 1 - rows[k]];
+    }
     std::vector<Tensor<3>> L(owned.size());
     grid->velocityGradient(P, order, L);
     for (std::size_t k = 0; k < owned.size(); ++k)
       EXPECT_EQ(L[k], full.L[c.x.size() - 1 - owned[k]]) << k;
+  }
+}
+
+TEST(MpmGrid, ApicReturnsAnAffineVelocityExactly) {
+  // Points scattered at random (1 to 11 cells), moving as v = G x + b with C_p = G and no
+  // stress: P2G's node velocities are G x_I + b exactly (the affine part carries each point's
+  // field to the node), so G2P returns v_p = G x_p + b at the step's start positions and C_p = G
+  // (the weights are linearly complete), and the remap's L is G. Tolerance 1e-13 of |G| x 11
+  // (round-off of sums over ~16-64 entries). PIC (flip 0) for contrast smears the same field by
+  // the points' scatter about the nodes: beyond 1e-3.
+  Cloud c = cloud(300);
+  Tensor<2> G;
+  G << 0.3, -0.7, 0.5, 0.2;
+  const Vec<2> b(0.1, -0.2);
+  for (std::size_t i = 0; i < c.x.size(); ++i) {
+    c.v[i] = G * c.x[i] + b;
+    c.C[i] = G;
+    c.p[i] = 0.0;
+    c.S[i].setZero();
+  }
+  std::vector<std::size_t> rows(c.x.size());
+  std::iota(rows.begin(), rows.end(), 0u);
+  const double tol = 1e-13 * G.norm() * 11.0;
+  for (MpmShape shape : {MpmShape::Linear, MpmShape::Gimp, MpmShape::Cpdi}) {
+    MpmConfig config = gridConfig(1.0, shape, 1.0);
+    config.transfer = MpmTransfer::Apic;
+    const Result r = step(c, rows, rows.size(), config);
+    double dv = 0.0, dC = 0.0, dL = 0.0;
+    for (std::size_t i = 0; i < c.x.size(); ++i) {
+      dv = std::max(dv, (r.v[i] - (G * c.x[i] + b)).norm());
+      dC = std::max(dC, (r.C[i] - G).norm());
+      dL = std::max(dL, (r.L[i].topLeftCorner<2, 2>() - G).norm());
+    }
+    EXPECT_LT(dv, tol) << static_cast<int>(shape);
+    EXPECT_LT(dC, tol) << static_cast<int>(shape);
+    EXPECT_LT(dL, tol) << static_cast<int>(shape);
+    const Result pic = step(c, rows, rows.size(), gridConfig(1.0, shape, 0.0));
+    double dPic = 0.0;
+    for (std::size_t i = 0; i < c.x.size(); ++i)
+      dPic = std::max(dPic, (pic.v[i] - (G * c.x[i] + b)).norm());
+    EXPECT_GT(dPic, 1e-3) << static_cast<int>(shape);
   }
 }
 

@@ -3,8 +3,10 @@
 // A_0 its volume m / rho at its start (in rz its area in the r-z plane, m / (2 pi r rho)): the
 // body's spacing on a cubic lattice. Its GIMP weights average over the box; uGIMP keeps l_p as
 // it was made (Bardenhagen & Kober 2004). CPDI's domain starts as that box, R = l_p I, and
-// follows the motion (methods/MpmMethod: R_n+1 = (I + dt L) R_n).
+// follows the motion (methods/MpmMethod: R_n+1 = (I + dt L) R_n). With APIC each point carries
+// its velocity gradient C_p (solvers/MpmGrid.hpp).
 #include "spall/methods/Module.hpp"
+#include "spall/solvers/Config.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -13,13 +15,15 @@ namespace spall::methods {
 
 template <int Dim> class MaterialPoints final : public Module<Dim> {
 public:
-  MaterialPoints(bool axisymmetric, bool domains, bool viscous)
-      : rz_(axisymmetric), domains_(domains), viscous_(viscous) {}
+  MaterialPoints(bool axisymmetric, const MpmConfig& c)
+      : rz_(axisymmetric), domains_(c.shape == MpmShape::Cpdi), viscous_(c.viscous()),
+        affine_(c.transfer == MpmTransfer::Apic) {}
   void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override {
     f.halfWidth = s.add<double>("particle_half_width", kOutput | kCheckpoint | kHalo);
     if (domains_) f.domain = s.add<Tensor<Dim>>("particle_domain", kOutput | kCheckpoint | kHalo);
     if (viscous_)
       f.viscousPressure = s.add<double>("viscous_pressure", kOutput | kCheckpoint | kHalo);
+    if (affine_) f.affine = s.add<Tensor<Dim>>("affine_velocity", kOutput | kCheckpoint | kHalo);
   }
   void initialise(ParticleStore& s, const ParticleFields<Dim>& f,
                   const RunStart& start) const override {
@@ -31,11 +35,12 @@ public:
       lp[i] = 0.5 * std::pow(m[i] / (ring * rho[i]), 1.0 / Dim);
       if (domains_) s[f.domain][i] = lp[i] * Tensor<Dim>::Identity();
       if (viscous_) s[f.viscousPressure][i] = 0.0;
+      if (affine_) s[f.affine][i].setZero();
     }
   }
 
 private:
-  bool rz_, domains_, viscous_;
+  bool rz_, domains_, viscous_, affine_;
 };
 
 } // namespace spall::methods
