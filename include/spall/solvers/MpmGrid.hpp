@@ -32,7 +32,7 @@
 // fields' g = sum_p V_p grad S_Ip, which points out of a field's material at its surface:
 // n_b ~ g_b - sum_{c != b} g_c),
 //   (v_b - v_cm) . n_b > 0  =>  v_b <- v_b - ((v_b - v_cm) . n_b) n_b,
-// where the fields' material fills the node's support (a gap is not a contact: MpmGrid.cpp),
+// where the fields' material fills the node's support (a gap is not a contact: MpmGridContact.hpp),
 // applied to the grid velocities before the force, after it (the force acting on the corrected
 // velocity) and after the remap. The tangential part is untouched (no friction) and fields
 // moving apart are free (no tension). With two fields the normals are opposite and the
