@@ -36,7 +36,8 @@ void readSolver(const TableReader& r, SolverConfig& s) {
       mp.check(*f >= 0.0 && *f <= 1.0, "flip", "in [0, 1] (1: FLIP, 0: PIC)", *f);
       if (s.mpm.transfer == MpmTransfer::Apic && *f != 1.0)
         mp.fail("flip", mp.quoted("flip") + " blends FLIP with PIC; transfer = \"apic\" is "
-                                            "neither (PIC's velocity with an affine part)");
+                                            "neither (PIC's velocity with an affine part): "
+                                            "remove flip or set it to 1");
       s.mpm.flip = *f;
     }
     if (const auto* v = mp.subtable("viscosity")) {

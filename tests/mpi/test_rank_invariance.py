@@ -99,6 +99,8 @@ CASES = [("sod_1d.toml", []), ("rod_impact_copper.toml", ["run.end_time=6e-6"]),
          # ... frictionless contact: a velocity field per disk, the contact at each node summed
          # over its fields in field order
          ("glancing_disks_mpm_2d.toml", ["run.end_time=2.5"]),
+         # ... with APIC: the affine part at each (node, field) pair's place
+         ("glancing_disks_mpm_2d.toml", ["run.end_time=2.5", 'solver.mpm.transfer="apic"']),
          ("taylor_bar_3d.toml", ["run.resolution=0.4", "run.max_steps=40", "solver.method=mpm"]),
          # ... CPDI: each point's nodes those of its domain's corners, the halo as wide as the
          # most stretched domain reaches (the bar to 2.5x its length, points 1.25 cells apart)
@@ -106,6 +108,9 @@ CASES = [("sod_1d.toml", []), ("rod_impact_copper.toml", ["run.end_time=6e-6"]),
          # ... and in rz: the axis a constrained node plane, the hoop terms, the bulk viscosity
          ("taylor_bar_4340_rz.toml", ["run.end_time=2e-5", "solver.method=mpm",
                                       "solver.mpm.viscosity={linear=0.2, quadratic=2.0}"]),
+         # ... and with APIC: C_p folded with the rings that cross the axis
+         ("taylor_bar_4340_rz.toml", ["run.end_time=2e-5", "solver.method=mpm",
+                                      'solver.mpm.transfer="apic"']),
          # ... with bodies joining (a [[jet]]'s segments): the grid's origin stays where t = 0
          # put it on every rank, including ranks that hold nothing when a segment joins; and with
          # a velocity field per body (frictionless): a segment's field joins the nodes' lists

@@ -32,7 +32,7 @@
   A probe on a core point samples its domain by component (r_1,x = 3 l_p within 1%), and a
   sheared, strengthless variant tells R(x, y) from R(y, x) (0.4 l_p against 0).
 - The vibrating bar with CPDI: the same bounds, and the period error's order at least 1.5
-  (measured 2.06); with APIC the same bounds.
+  (measured 2.06). With APIC (GIMP) the same bounds at 50 cells.
 
 Long (third argument "long"): the 4340 Taylor bar in rz against the 3D run, both MPM at the
 shipped resolution: length and face within 2% of each other (the penetration issue's bound for

@@ -13,7 +13,8 @@
 //         C_p <- sum v^L_I (x) grad S_Ip (Jiang et al.'s B_p D_p^-1 for the tent; the same
 //         gradient for GIMP and CPDI). An affine grid velocity returns exactly (the weights are
 //         linearly complete): no PIC smearing of a stretch or a spin, while the modes the grid
-//         cannot carry (FLIP's ringing) are filtered as PIC filters them.
+//         cannot carry (FLIP's ringing) are filtered as PIC filters them. Momentum is conserved;
+//         angular momentum only as closely as the gradient stands in for B_p D_p^-1.
 //   remap v_I = sum_p S_Ip m_p v_p / m_I  (the new particle velocities: MUSL; APIC's with the
 //         affine part about the points' places at the step's start)
 //   L_p = sum_I v_I (x) grad S_Ip, which the material update takes for dt.

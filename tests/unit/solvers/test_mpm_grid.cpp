@@ -548,6 +548,26 @@ TEST(MpmGrid, ApicReturnsAnAffineVelocityExactly) {
   }
 }
 
+TEST(MpmGrid, ApicWithoutItsAffinePartIsPic) {
+  // With every C_p = 0 the P2G is PIC's and APIC's new velocity is the grid's, sum S_Ip v^L_I:
+  // under stress (v^L != v) the points' velocities and positions are the flip = 0 step's bit
+  // for bit (a FLIP increment v + sum S (v^L - v) in its place would differ by the PIC-FLIP gap).
+  Cloud c = cloud(300);
+  for (auto& C : c.C) C.setZero();
+  std::vector<std::size_t> rows(c.x.size());
+  std::iota(rows.begin(), rows.end(), 0u);
+  for (MpmShape shape : {MpmShape::Linear, MpmShape::Gimp, MpmShape::Cpdi}) {
+    MpmConfig config = gridConfig(1.0, shape, 1.0);
+    config.transfer = MpmTransfer::Apic;
+    const Result apic = step(c, rows, rows.size(), config);
+    const Result pic = step(c, rows, rows.size(), gridConfig(1.0, shape, 0.0));
+    for (std::size_t i = 0; i < c.x.size(); ++i) {
+      EXPECT_EQ(apic.v[i], pic.v[i]) << i;
+      EXPECT_EQ(apic.x[i], pic.x[i]) << i;
+    }
+  }
+}
+
 TEST(MpmGrid, WallNodesKeepNoNormalVelocity) {
   // 1D, cells of 1, a wall at x = 0 (node 0): three points moving at -1 toward it, PIC. The
   // point on the wall node weighs nodes -1, 0, 1 with 1/16, 7/8, 1/16 (GIMP, lp = 1/4); the first
