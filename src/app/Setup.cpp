@@ -47,6 +47,19 @@ std::optional<materials::Strength> buildStrength(const StrengthConfig& c) {
                                   c.specific_heat,
                                   c.taylor_quinney,
                                   c.strain_rate == "plastic"};
+  if (c.type == "zerilli_armstrong")
+    return materials::ZerilliArmstrong{c.shear_modulus,
+                                       c.C0,
+                                       c.C1,
+                                       c.C2,
+                                       c.C3,
+                                       c.C4,
+                                       c.C5,
+                                       c.n,
+                                       c.reference_strain_rate,
+                                       c.room_temperature,
+                                       c.specific_heat,
+                                       c.taylor_quinney};
   return std::nullopt;
 }
 
@@ -167,12 +180,11 @@ std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck
   std::vector<std::int32_t> fixed;
   for (std::size_t b = 0; b < deck.bodies.size(); ++b)
     if (deck.bodies[b].fixed) fixed.push_back(static_cast<std::int32_t>(b));
-  // Johnson-Cook is the only model that tracks temperature: its materials start at their room
+  // Johnson-Cook and Zerilli-Armstrong track temperature: their materials start at their room
   // temperature, the others at 0.
   std::vector<double> roomTemperature;
   for (const auto& m : deck.materials)
-    roomTemperature.push_back(m.strength.type == "johnson_cook" ? m.strength.room_temperature
-                                                                : 0.0);
+    roomTemperature.push_back(m.strength.tracksTemperature() ? m.strength.room_temperature : 0.0);
 
   // The list: one line a module, in this order (the order their fields are registered in).
   std::vector<std::unique_ptr<methods::Module<Dim>>> list;

@@ -60,15 +60,14 @@ std::string infoText() {
   s += fmt::format("Eigen      {}.{}.{}\n", EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION,
                    EIGEN_MINOR_VERSION);
   s += fmt::format("toml++     {}.{}.{}\n", TOML_LIB_MAJOR, TOML_LIB_MINOR, TOML_LIB_PATCH);
-  s += "features   dimensions 1/2/3, axisymmetric rz; solvers: sph, asph; kernels: cubic_spline,\n"
-       "           wendland_c2, wendland_c4; EOS: ideal_gas, linear, mie_gruneisen, tillotson,\n"
-       "           p_alpha porosity; strength: elastic, von_mises, johnson_cook, cap; damage:\n"
-       "           grady_kipp, johnson_cook; boundaries: rigid_wall, periodic, pressure (with\n"
-       "           [damping]); MPI decomposition,\n"
-       "           checkpoint/restart; output: HDF5 + XDMF, CSV, penetration.csv; spall element,\n"
-       "           spall history\n"
-       "           bodies that join at insert_time, [[jet]] files\n"
-       "not yet    mpm\n";
+  s += "features   dimensions 1/2/3, axisymmetric rz; solvers: sph, asph, mpm (linear, gimp,\n"
+       "           cpdi; flip, apic); kernels: cubic_spline, wendland_c2, wendland_c4; EOS:\n"
+       "           ideal_gas, linear, mie_gruneisen, tillotson, p_alpha porosity; strength:\n"
+       "           elastic, von_mises, johnson_cook, zerilli_armstrong, cap; damage: grady_kipp,\n"
+       "           johnson_cook; boundaries: rigid_wall, periodic, pressure (with [damping]);\n"
+       "           MPI decomposition, checkpoint/restart; output: HDF5 + XDMF, CSV,\n"
+       "           penetration.csv; spall element, spall history; bodies that join at\n"
+       "           insert_time, [[jet]] files\n";
   return s;
 }
 

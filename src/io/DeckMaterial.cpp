@@ -81,6 +81,38 @@ void readCap(const TableReader& r, StrengthConfig& c) {
   r.check(c.initial_pore_pressure >= 0.0, "initial_pore_pressure", ">= 0", c.initial_pore_pressure);
 }
 
+// Zerilli & Armstrong (1987): each constant optional (0 by default: an fcc metal sets C0, C2, C3,
+// C4; a bcc one C0, C1, C3, C4, C5, n), all >= 0, and some stress to yield at.
+void readZerilliArmstrong(const TableReader& r, StrengthConfig& c) {
+  const auto need = [&](std::string_view key) { return r.required(r.number(key), key); };
+  const auto constant = [&](std::string_view key, const char* unit) {
+    const double v = r.number(key).value_or(0.0);
+    r.check(v >= 0.0, key, std::string(">= 0 (") + unit + ")", v);
+    return v;
+  };
+  c.C0 = constant("C0", "Pa");
+  c.C1 = constant("C1", "Pa");
+  c.C2 = constant("C2", "Pa");
+  c.C3 = constant("C3", "1/K");
+  c.C4 = constant("C4", "1/K");
+  c.C5 = constant("C5", "Pa");
+  r.check(c.C0 + c.C1 + c.C2 + c.C5 > 0.0, "C0",
+          "> 0, or one of C1, C2, C5 > 0 (the model has no stress to yield at)", c.C0);
+  c.n = r.number("n").value_or(1.0);
+  r.check(c.n > 0.0, "n", "> 0", c.n);
+  c.reference_strain_rate = r.number("reference_strain_rate").value_or(1.0);
+  r.check(c.reference_strain_rate > 0.0, "reference_strain_rate", "> 0 (1/s)",
+          c.reference_strain_rate);
+  c.room_temperature = need("room_temperature");
+  r.check(c.room_temperature > 0.0, "room_temperature", "> 0 (K: the model's T is absolute)",
+          c.room_temperature);
+  c.specific_heat = need("specific_heat");
+  r.check(c.specific_heat > 0.0, "specific_heat", "> 0", c.specific_heat);
+  c.taylor_quinney = need("taylor_quinney");
+  r.check(c.taylor_quinney >= 0.0 && c.taylor_quinney <= 1.0, "taylor_quinney", "in [0, 1]",
+          c.taylor_quinney);
+}
+
 void readStrength(const TableReader& r, StrengthConfig& c) {
   c.where = r.where();
   c.type = r.choice("type", typeNames("material.strength"), std::nullopt);
@@ -118,6 +150,8 @@ void readStrength(const TableReader& r, StrengthConfig& c) {
     r.check(c.taylor_quinney >= 0.0 && c.taylor_quinney <= 1.0, "taylor_quinney", "in [0, 1]",
             c.taylor_quinney);
     c.strain_rate = r.choice("strain_rate", {"plastic", "total"}, "plastic");
+  } else if (c.type == "zerilli_armstrong") {
+    readZerilliArmstrong(r, c);
   }
 }
 
@@ -229,14 +263,15 @@ void readMaterial(const TableReader& r, MaterialConfig& m) {
   }
   if (const toml::table* t = r.subtable("damage")) {
     readDamage(child(r, *t, r.context().child("damage")), m.damage);
-    const bool plastic = m.strength.type == "von_mises" || m.strength.type == "johnson_cook";
+    const bool plastic = m.strength.type == "von_mises" || m.strength.tracksTemperature();
     if (m.strength.type == "none")
       r.fail("damage", "damage in " + r.context().human +
                            " degrades a material's strength, and this material has none (add "
                            "strength = {type = ...})");
     if (m.damage.type == "johnson_cook" && !plastic)
       r.fail("damage", "Johnson-Cook damage accumulates plastic strain; strength type '" +
-                           m.strength.type + "' has none (use von_mises or johnson_cook)");
+                           m.strength.type +
+                           "' has none (use von_mises, johnson_cook or zerilli_armstrong)");
   } else if (r.has("damage")) {
     r.fail("damage", "damage must be a table, e.g. {type = \"grady_kipp\", ...}");
   }

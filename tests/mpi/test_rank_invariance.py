@@ -71,6 +71,9 @@ CASES = [("sod_1d.toml", []), ("rod_impact_copper.toml", ["run.end_time=6e-6"]),
          # terms; SPH and ASPH
          ("taylor_bar_rz.toml", ["run.end_time=1e-5"]),
          ("taylor_bar_rz.toml", ["run.end_time=6e-6", "solver.method=asph"]),
+         # Zerilli-Armstrong: its return (the plastic rate found with the yield stress) and the
+         # temperature it reads
+         ("taylor_bar_za_rz.toml", ["run.end_time=1e-5"]),
          # damage: flaws from (seed, id), damage through the halo, failed pairs, mid-spall
          ("spall_plate_1d.toml", ["run.end_time=2.2e-6"]),
          # 2D damage and fragments: `fragment` (friends of friends across ranks) bit for bit

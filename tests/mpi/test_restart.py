@@ -207,6 +207,9 @@ with tempfile.TemporaryDirectory() as tmp:
     # Axisymmetric, mid-mushroom: ring masses and the hoop stress S_tt (in S) are checkpointed.
     stopped_and_restarted(SRC / "decks/taylor_bar_rz.toml", 2, tmp / "rz", ["run.end_time=1e-5"],
                           400, "Taylor bar (rz), 2 ranks, restart mid-flow")
+    # ... with Zerilli-Armstrong: the temperature its yield stress reads is checkpointed
+    stopped_and_restarted(SRC / "decks/taylor_bar_za_rz.toml", 3, tmp / "za_rz",
+                          ["run.end_time=1e-5"], 400, "Taylor bar (rz, Zerilli-Armstrong), 3 ranks, restart mid-flow")
 
     # Damage: a restart mid-failure (the spall plane opens from 1.75 us): damage, the intact
     # stress and the flaw state are checkpointed, the flaws themselves redrawn from (seed, id).

@@ -48,7 +48,8 @@ struct EosConfig {
 
 // strength = {type = ...} (INTERFACE.md; materials/Strength.hpp for the models).
 struct StrengthConfig {
-  std::string type = "none"; // "none" | "elastic" | "von_mises" | "johnson_cook" | "cap"
+  std::string type = "none"; // "none" | "elastic" | "von_mises" | "johnson_cook" |
+                             // "zerilli_armstrong" | "cap"
   double shear_modulus = 0.0, yield_stress = 0.0;
   // cap (materials/CapPlasticity.hpp; INTERFACE.md for the keys)
   double bulk_modulus = 0.0, peak_i1 = 0.0, f_slope = 0.0, cap_ratio = 0.0;
@@ -60,6 +61,12 @@ struct StrengthConfig {
   double room_temperature = 293.0, melt_temperature = 0.0, specific_heat = 0.0;
   double taylor_quinney = 0.9;
   std::string strain_rate = "plastic"; // "plastic" | "total": the rate in Johnson-Cook's rate term
+  // zerilli_armstrong (with n, reference_strain_rate, room_temperature, specific_heat,
+  // taylor_quinney above)
+  double C0 = 0.0, C1 = 0.0, C2 = 0.0, C3 = 0.0, C4 = 0.0, C5 = 0.0;
+  // The models that carry a temperature (johnson_cook, zerilli_armstrong) start at
+  // room_temperature.
+  bool tracksTemperature() const { return type == "johnson_cook" || type == "zerilli_armstrong"; }
   SourceLocation where;
 };
 

@@ -461,7 +461,7 @@ TEST_F(DeckTest, DamageTypesAndTheirKeys) {
                kElastic + "damage = { type = \"johnson_cook\", D1 = 0.05, D2 = 3.44, "
                           "D3 = -2.12, D4 = 0.002, D5 = 0.61, reference_strain_rate = "
                           "1.0, room_temperature = 293.0, melt_temperature = 1793.0 }");
-  at(t, "{ type", "use von_mises or johnson_cook");
+  at(t, "{ type", "use von_mises, johnson_cook or zerilli_armstrong");
   t = withLine(kDeck1D, 15,
                kElastic + "damage = { type = \"grady_kipp\", weibull_k = 1e35, "
                           "weibull_m = 9.0, crack_speed = 1.5 }");
@@ -480,6 +480,35 @@ TEST_F(DeckTest, JohnsonCookStrainRateIsPlasticOrTotal) {
                 .materials[0]
                 .strength.strain_rate,
             "total");
+}
+
+// Zerilli-Armstrong: the constants default to 0 (an fcc metal gives C0, C2, C3, C4), none
+// negative, some stress to yield at; the temperature is absolute and required; Johnson-Cook's
+// keys are not its keys.
+TEST_F(DeckTest, ZerilliArmstrongConstants) {
+  const std::string za = "strength = { type = \"zerilli_armstrong\", shear_modulus = 46e9, "
+                         "room_temperature = 294.0, specific_heat = 383.0, taylor_quinney = 0.9";
+  const Deck d =
+      load(withLine(kDeck1D, 15, za + ", C0 = 65e6, C2 = 890e6, C3 = 0.0028, C4 = 0.000115 }"));
+  const auto& c = d.materials[0].strength;
+  EXPECT_EQ(c.C0, 65e6);
+  EXPECT_EQ(c.C1, 0.0);
+  EXPECT_EQ(c.C2, 890e6);
+  EXPECT_EQ(c.C4, 0.000115);
+  EXPECT_EQ(c.C5, 0.0);
+  EXPECT_EQ(c.n, 1.0);
+  EXPECT_EQ(c.reference_strain_rate, 1.0);
+  EXPECT_TRUE(c.tracksTemperature());
+  std::string bad = withLine(kDeck1D, 15, za + ", C0 = 65e6, C2 = -890e6 }");
+  expectError(bad, 15, columnOf(bad, 15, "-890e6"), "C2");
+  bad = withLine(kDeck1D, 15, za + ", C3 = 0.0028 }");
+  expectError(bad, 15, columnOf(bad, 15, "{ type"), "no stress to yield at");
+  bad = withLine(kDeck1D, 15, za + ", C0 = 65e6, strain_rate = \"total\" }");
+  expectError(bad, 15, columnOf(bad, 15, "strain_rate"), "strain_rate");
+  bad = withLine(kDeck1D, 15,
+                 "strength = { type = \"zerilli_armstrong\", shear_modulus = 46e9, C0 = 65e6, "
+                 "specific_heat = 383.0, taylor_quinney = 0.9 }");
+  expectError(bad, 15, columnOf(bad, 15, "{ type"), "room_temperature");
 }
 
 TEST_F(DeckTest, ErosionNeedsDamageAndAKnownOption) {
