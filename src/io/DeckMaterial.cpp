@@ -81,10 +81,22 @@ void readCap(const TableReader& r, StrengthConfig& c) {
   r.check(c.initial_pore_pressure >= 0.0, "initial_pore_pressure", ">= 0", c.initial_pore_pressure);
 }
 
+// The keys of a model that heats by its plastic work: the starting temperature (K, absolute), the
+// specific heat and the share of the work that heats (Taylor-Quinney).
+void readHeating(const TableReader& r, StrengthConfig& c) {
+  const auto need = [&](std::string_view key) { return r.required(r.number(key), key); };
+  c.room_temperature = need("room_temperature");
+  r.check(c.room_temperature > 0.0, "room_temperature", "> 0 (K)", c.room_temperature);
+  c.specific_heat = need("specific_heat");
+  r.check(c.specific_heat > 0.0, "specific_heat", "> 0", c.specific_heat);
+  c.taylor_quinney = need("taylor_quinney");
+  r.check(c.taylor_quinney >= 0.0 && c.taylor_quinney <= 1.0, "taylor_quinney", "in [0, 1]",
+          c.taylor_quinney);
+}
+
 // Zerilli & Armstrong (1987): each constant optional (0 by default: an fcc metal sets C0, C2, C3,
 // C4; a bcc one C0, C1, C3, C4, C5, n), all >= 0, and some stress to yield at.
 void readZerilliArmstrong(const TableReader& r, StrengthConfig& c) {
-  const auto need = [&](std::string_view key) { return r.required(r.number(key), key); };
   const auto constant = [&](std::string_view key, const char* unit) {
     const double v = r.number(key).value_or(0.0);
     r.check(v >= 0.0, key, std::string(">= 0 (") + unit + ")", v);
@@ -103,14 +115,7 @@ void readZerilliArmstrong(const TableReader& r, StrengthConfig& c) {
   c.reference_strain_rate = r.number("reference_strain_rate").value_or(1.0);
   r.check(c.reference_strain_rate > 0.0, "reference_strain_rate", "> 0 (1/s)",
           c.reference_strain_rate);
-  c.room_temperature = need("room_temperature");
-  r.check(c.room_temperature > 0.0, "room_temperature", "> 0 (K: the model's T is absolute)",
-          c.room_temperature);
-  c.specific_heat = need("specific_heat");
-  r.check(c.specific_heat > 0.0, "specific_heat", "> 0", c.specific_heat);
-  c.taylor_quinney = need("taylor_quinney");
-  r.check(c.taylor_quinney >= 0.0 && c.taylor_quinney <= 1.0, "taylor_quinney", "in [0, 1]",
-          c.taylor_quinney);
+  readHeating(r, c);
 }
 
 void readStrength(const TableReader& r, StrengthConfig& c) {
@@ -139,16 +144,10 @@ void readStrength(const TableReader& r, StrengthConfig& c) {
     r.check(c.m > 0.0, "m", "> 0", c.m);
     c.reference_strain_rate = need("reference_strain_rate");
     r.check(c.reference_strain_rate > 0.0, "reference_strain_rate", "> 0", c.reference_strain_rate);
-    c.room_temperature = need("room_temperature");
-    r.check(c.room_temperature > 0.0, "room_temperature", "> 0", c.room_temperature);
+    readHeating(r, c);
     c.melt_temperature = need("melt_temperature");
     r.check(c.melt_temperature > c.room_temperature, "melt_temperature", "> room_temperature",
             c.melt_temperature);
-    c.specific_heat = need("specific_heat");
-    r.check(c.specific_heat > 0.0, "specific_heat", "> 0", c.specific_heat);
-    c.taylor_quinney = need("taylor_quinney");
-    r.check(c.taylor_quinney >= 0.0 && c.taylor_quinney <= 1.0, "taylor_quinney", "in [0, 1]",
-            c.taylor_quinney);
     c.strain_rate = r.choice("strain_rate", {"plastic", "total"}, "plastic");
   } else if (c.type == "zerilli_armstrong") {
     readZerilliArmstrong(r, c);

@@ -90,6 +90,19 @@ template <class Yield> double plasticIncrement(double q, double G, const Yield& 
   return d;
 }
 
+// The return itself and its plastic heating dT = chi Y d / (rho c_p) (Austin 2013, Eq. 6.7): `out`
+// holds the trial stress, of von Mises stress q > Y(0).
+template <class Yield>
+StrengthState plasticReturn(StrengthState out, double q, double G, const Yield& yield, double chi,
+                            double rhoCp) {
+  const double d = plasticIncrement(q, G, yield);
+  const double Y = yield(d);
+  out.S *= Y / q;
+  out.plasticStrain += d;
+  out.temperature += chi * Y * d / rhoCp;
+  return out;
+}
+
 // strength = {type = "elastic", shear_modulus}
 struct Elastic {
   double G = 0.0;
@@ -162,12 +175,7 @@ struct JohnsonCook {
     };
     const double q = vonMisesStress(out.S);
     if (q <= yield(0.0)) return out;
-    const double d = plasticIncrement(q, G, yield);
-    const double Y = yield(d);
-    out.S *= Y / q;
-    out.plasticStrain += d;
-    out.temperature += chi * Y * d / (rho * cp); // Austin (2013), Eq. 6.7
-    return out;
+    return plasticReturn(out, q, G, yield, chi, rho * cp);
   }
   double shearModulus() const { return G; }
 };
@@ -214,12 +222,7 @@ struct ZerilliArmstrong {
     };
     const double q = vonMisesStress(out.S);
     if (q <= yield(0.0)) return out;
-    const double d = plasticIncrement(q, G, yield);
-    const double Y = yield(d);
-    out.S *= Y / q;
-    out.plasticStrain += d;
-    out.temperature += chi * Y * d / (rho * cp); // Austin (2013), Eq. 6.7
-    return out;
+    return plasticReturn(out, q, G, yield, chi, rho * cp);
   }
   double shearModulus() const { return G; }
 };
