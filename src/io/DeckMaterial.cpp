@@ -107,6 +107,9 @@ void readZerilliArmstrong(const TableReader& r, StrengthConfig& c) {
   c.C2 = constant("C2", "Pa");
   c.C3 = constant("C3", "1/K");
   c.C4 = constant("C4", "1/K");
+  // The metals of Zerilli & Armstrong have C4 ~ 1e-4/K; past 1e-2/K exp(C4 T ln rate) overflows
+  // in reach of a hypervelocity scene (T 3000 K, rate 1e10/s) and the return stalls.
+  r.check(c.C4 <= 1e-2, "C4", "<= 1e-2 (1/K; metals have ~1e-4)", c.C4);
   c.C5 = constant("C5", "Pa");
   r.check(c.C0 + c.C1 + c.C2 + c.C5 > 0.0, "C0",
           "> 0, or one of C1, C2, C5 > 0 (the model has no stress to yield at)", c.C0);

@@ -20,8 +20,8 @@ With `long`: the shipped resolutions (10 across the radius; ~17 min and ~10 min 
 42CrMo4 within the issue's 2% (length) and 4% (face); 4340 within 2% (length) and 6% (face:
 -5.4% measured, converging at order ~0.5 from -7.6%), profile RMS within 3% (2.5% measured).
 The OFHC copper bar with Johnson-Cook (taylor_bar_3d) is measured, not asserted: its length stays
-5.1% long from 6 to 10.5 particles across the radius (decks/README.md). With Zerilli-Armstrong:
-- fast, taylor_bar_za_rz (axisymmetric, 15 rings across the radius, 1.5k particles, seconds):
+5.1-5.4% long from 6 to 10.5 particles across the radius (decks/README.md). With Zerilli-Armstrong:
+- fast, taylor_bar_za_rz (axisymmetric, 15 rings across the radius, 1.5k particles, 44 s on 1 core):
   length within 4%, face within 6%, profile RMS within 4%. Measured +3.3%, -4.0%, 2.8% (at 1.5x
   the resolution +3.6%, -2.5%, 2.5%: converged in length). The rz bar ends 1-1.5% longer than
   the 3D one for both models. The same deck with Johnson-Cook (taylor_bar_rz) gives +6.4%,

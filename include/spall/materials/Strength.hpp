@@ -28,7 +28,7 @@ using Mat3 = Tensor<3>;
 struct StrengthState {
   Mat3 S = Mat3::Zero();      // deviatoric Cauchy stress, Pa
   double plasticStrain = 0.0; // equivalent plastic strain
-  double temperature = 0.0;   // K (Johnson-Cook only; others leave it alone)
+  double temperature = 0.0;   // K (Johnson-Cook, Zerilli-Armstrong; others leave it alone)
 };
 
 // The rotation of half a step with the spin W of L (Hughes & Winget 1980): the objective update

@@ -501,6 +501,12 @@ TEST_F(DeckTest, ZerilliArmstrongConstants) {
   EXPECT_TRUE(c.tracksTemperature());
   std::string bad = withLine(kDeck1D, 15, za + ", C0 = 65e6, C2 = -890e6 }");
   expectError(bad, 15, columnOf(bad, 15, "-890e6"), "C2");
+  bad = withLine(kDeck1D, 15, za + ", C0 = 65e6, C4 = 0.5 }");
+  expectError(bad, 15, columnOf(bad, 15, "0.5"), "C4");
+  bad = withLine(kDeck1D, 15, za + ", C0 = 65e6, n = 0 }");
+  expectError(bad, 15, columnOf(bad, 15, "n = 0") + 4, "n");
+  bad = withLine(kDeck1D, 15, za + ", C0 = 65e6, melt_temperature = 1356.0 }");
+  expectError(bad, 15, columnOf(bad, 15, "melt_temperature"), "melt_temperature");
   bad = withLine(kDeck1D, 15, za + ", C3 = 0.0028 }");
   expectError(bad, 15, columnOf(bad, 15, "{ type"), "no stress to yield at");
   bad = withLine(kDeck1D, 15, za + ", C0 = 65e6, strain_rate = \"total\" }");

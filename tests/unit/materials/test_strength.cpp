@@ -301,7 +301,8 @@ StrengthState isochoricFlow(const ZerilliArmstrong& za, double rate, double stra
 
 // Steady plastic flow at a constant rate, held at room temperature: the flow stress is the
 // model's closed form at the plastic strain reached and the total rate (the plastic rate
-// approaches it: the elastic share dY/dt / 3G is below 1e-3 of the rate here), in both forms.
+// approaches it: the elastic share (dY/d eps) / 3G is below 1e-2 of the rate here, which moves
+// the stress by C4 T times that, below 4e-4), in both forms.
 TEST(StrengthZerilliArmstrong, SteadyFlowFollowsTheClosedFormFccAndBcc) {
   for (const auto& za : {zaCopper(), zaIron()}) {
     for (double rate : {1e2, 1e4, 1e6}) {
@@ -309,10 +310,26 @@ TEST(StrengthZerilliArmstrong, SteadyFlowFollowsTheClosedFormFccAndBcc) {
       const StrengthState s = isochoricFlow(za, rate, 0.2, 8000.0, dt);
       const double expect = za.yieldStress(s.plasticStrain, rate, za.Troom);
       EXPECT_NEAR(vonMisesStress(s.S), expect, 1e-3 * expect) << "C2 " << za.C2 << " rate " << rate;
+      // the closed form written out (Zerilli & Armstrong 1987, Eqs. 12-13), apart from the model's
+      const double eps = s.plasticStrain, T = za.Troom;
+      const double paper =
+          za.C0 +
+          (za.C1 + za.C2 * std::sqrt(eps)) * std::exp(-za.C3 * T + za.C4 * T * std::log(rate)) +
+          za.C5 * std::pow(eps, za.n);
+      EXPECT_NEAR(expect, paper, 1e-12 * paper);
       // the elastic strain is what is left of the 0.2: q / 3G
       EXPECT_NEAR(s.plasticStrain, 0.2 - vonMisesStress(s.S) / (3.0 * za.G), 1e-6);
     }
   }
+}
+
+// Two numbers by hand (to the 0.1 MPa they are given to): copper at eps_p 0.2, 1e4/s, 294 K:
+// 65 + 890 (0.2)^1/2 exp(-0.8232 + 0.03381 x 9.2103) = 65 + 398.02 x 0.5994 = 303.6 MPa; iron
+// (bcc) at the same: 1033 exp(-2.0521 + 0.12201 x 9.2103) + 266 (0.2)^0.289 = 1033 x 0.39519 +
+// 266 x 0.62806 = 575.3 MPa.
+TEST(StrengthZerilliArmstrong, FlowStressByHand) {
+  EXPECT_NEAR(zaCopper().yieldStress(0.2, 1e4, 294.0), 303.6e6, 0.1e6);
+  EXPECT_NEAR(zaIron().yieldStress(0.2, 1e4, 294.0), 575.3e6, 0.1e6);
 }
 
 // What sets the fcc form apart from Johnson-Cook (Zerilli & Armstrong 1987, Sec. III): the rate
@@ -406,10 +423,10 @@ TEST(StrengthZerilliArmstrong, ElasticBelowC0AndRelaxesWhenStopped) {
   EXPECT_NEAR(qHeld, q - 3.0 * za.G * (held.plasticStrain - flowing.plasticStrain), 1e-9 * q);
   // on the yield surface of the last step's plastic rate
   EXPECT_NEAR(qHeld, za.yieldStress(held.plasticStrain, d / dt, za.Troom), 1e-9 * q);
-  EXPECT_GT(d / dt, 1.0);
-  EXPECT_LT(d / dt, 1e3);
-  EXPECT_GT(qHeld, za.yieldStress(held.plasticStrain, 1.0, za.Troom));
-  EXPECT_LT(qHeld, 0.95 * q);
+  EXPECT_GT(d / dt, 2.0); // measured 4.7/s
+  EXPECT_LT(d / dt, 20.0);
+  EXPECT_GT(qHeld, 1.02 * za.yieldStress(held.plasticStrain, 1.0, za.Troom)); // 3.9% above
+  EXPECT_LT(qHeld, 0.9 * q);                                                  // 18% below
 }
 
 TEST(EosDerivatives, DpDrhoMatchesFiniteDifferencesForEveryEos) {
