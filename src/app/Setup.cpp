@@ -34,32 +34,34 @@ materials::Eos buildEos(const MaterialConfig& m) {
 std::optional<materials::Strength> buildStrength(const StrengthConfig& c) {
   if (c.type == "elastic") return materials::Elastic{c.shear_modulus};
   if (c.type == "von_mises") return materials::VonMises{c.shear_modulus, c.yield_stress};
+  // Designated initializers: the deck's names meet the model's, and a swapped pair cannot compile
+  // silently into the other's place.
   if (c.type == "johnson_cook")
-    return materials::JohnsonCook{c.shear_modulus,
-                                  c.A,
-                                  c.B,
-                                  c.n,
-                                  c.C,
-                                  c.m,
-                                  c.reference_strain_rate,
-                                  c.room_temperature,
-                                  c.melt_temperature,
-                                  c.specific_heat,
-                                  c.taylor_quinney,
-                                  c.strain_rate == "plastic"};
+    return materials::JohnsonCook{.G = c.shear_modulus,
+                                  .A = c.A,
+                                  .B = c.B,
+                                  .n = c.n,
+                                  .C = c.C,
+                                  .m = c.m,
+                                  .rate0 = c.reference_strain_rate,
+                                  .Troom = c.room_temperature,
+                                  .Tmelt = c.melt_temperature,
+                                  .cp = c.specific_heat,
+                                  .chi = c.taylor_quinney,
+                                  .plasticRate = c.strain_rate == "plastic"};
   if (c.type == "zerilli_armstrong")
-    return materials::ZerilliArmstrong{c.shear_modulus,
-                                       c.C0,
-                                       c.C1,
-                                       c.C2,
-                                       c.C3,
-                                       c.C4,
-                                       c.C5,
-                                       c.n,
-                                       c.reference_strain_rate,
-                                       c.room_temperature,
-                                       c.specific_heat,
-                                       c.taylor_quinney};
+    return materials::ZerilliArmstrong{.G = c.shear_modulus,
+                                       .C0 = c.C0,
+                                       .C1 = c.C1,
+                                       .C2 = c.C2,
+                                       .C3 = c.C3,
+                                       .C4 = c.C4,
+                                       .C5 = c.C5,
+                                       .n = c.n,
+                                       .rate0 = c.reference_strain_rate,
+                                       .Troom = c.room_temperature,
+                                       .cp = c.specific_heat,
+                                       .chi = c.taylor_quinney};
   return std::nullopt;
 }
 
