@@ -182,8 +182,7 @@ void runElement(const ElementOptions& o) {
   const double rho0 = cfg.density / alpha0;
   std::vector<double> rho{rho0 / totalF(table, 0, 0.0).determinant()}, e{0.0}, p{0.0}, cs{0.0};
   if (!recorded.empty()) rho[0] = recorded[0].rho, e[0] = recorded[0].e;
-  std::vector<double> plastic{0.0},
-      temperature{cfg.strength.tracksTemperature() ? cfg.strength.room_temperature : 0.0};
+  std::vector<double> plastic{0.0}, temperature{cfg.strength.initialTemperature()};
   std::vector<double> D{0.0}, flawScale{0.0}, flawNext{0.0};
   std::vector<std::int32_t> material{0}, flawCount{0}, flawsActive{0};
   std::vector<Tensor<3>> L{Tensor<3>::Zero()}, S{Tensor<3>::Zero()}, Sintact{Tensor<3>::Zero()};

@@ -182,11 +182,8 @@ std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck
   std::vector<std::int32_t> fixed;
   for (std::size_t b = 0; b < deck.bodies.size(); ++b)
     if (deck.bodies[b].fixed) fixed.push_back(static_cast<std::int32_t>(b));
-  // Johnson-Cook and Zerilli-Armstrong track temperature: their materials start at their room
-  // temperature, the others at 0.
   std::vector<double> roomTemperature;
-  for (const auto& m : deck.materials)
-    roomTemperature.push_back(m.strength.tracksTemperature() ? m.strength.room_temperature : 0.0);
+  for (const auto& m : deck.materials) roomTemperature.push_back(m.strength.initialTemperature());
 
   // The list: one line a module, in this order (the order their fields are registered in).
   std::vector<std::unique_ptr<methods::Module<Dim>>> list;

@@ -265,12 +265,11 @@ void readMaterial(const TableReader& r, MaterialConfig& m) {
   }
   if (const toml::table* t = r.subtable("damage")) {
     readDamage(child(r, *t, r.context().child("damage")), m.damage);
-    const bool plastic = m.strength.type == "von_mises" || m.strength.tracksTemperature();
     if (m.strength.type == "none")
       r.fail("damage", "damage in " + r.context().human +
                            " degrades a material's strength, and this material has none (add "
                            "strength = {type = ...})");
-    if (m.damage.type == "johnson_cook" && !plastic)
+    if (m.damage.type == "johnson_cook" && !m.strength.hasPlasticStrain())
       r.fail("damage", "Johnson-Cook damage accumulates plastic strain; strength type '" +
                            m.strength.type +
                            "' has none (use von_mises, johnson_cook or zerilli_armstrong)");

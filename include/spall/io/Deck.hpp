@@ -65,8 +65,11 @@ struct StrengthConfig {
   // taylor_quinney above)
   double C0 = 0.0, C1 = 0.0, C2 = 0.0, C3 = 0.0, C4 = 0.0, C5 = 0.0;
   // The models that carry a temperature (johnson_cook, zerilli_armstrong) start at
-  // room_temperature.
+  // room_temperature, the others at 0.
   bool tracksTemperature() const { return type == "johnson_cook" || type == "zerilli_armstrong"; }
+  double initialTemperature() const { return tracksTemperature() ? room_temperature : 0.0; }
+  // The J2 models, which accumulate an equivalent plastic strain (what Johnson-Cook damage reads).
+  bool hasPlasticStrain() const { return type == "von_mises" || tracksTemperature(); }
   SourceLocation where;
 };
 
