@@ -340,8 +340,9 @@ template <int Dim> void Simulation<Dim>::banner(RunLog& log, const fs::path& dir
   lines.push_back(fmt::format("spall {} (git {}): {}", BuildInfo::version(),
                               BuildInfo::gitRevision(),
                               deck_.run.title.empty() ? deck_.path : deck_.run.title));
-  lines.push_back(fmt::format("deck {} | {}D | {} | {} rank{}", deck_.path, Dim,
-                              methodSummary(deck_), mpi_.size(), mpi_.size() > 1 ? "s" : ""));
+  lines.push_back(fmt::format("deck {} | {}D | {} | {} rank{} x {} thread{}", deck_.path, Dim,
+                              methodSummary(deck_), mpi_.size(), mpi_.size() > 1 ? "s" : "",
+                              threadCount(), threadCount() > 1 ? "s" : ""));
   for (const auto& b : bodies_)
     lines.push_back(fmt::format("  body {:<16} {:>10} particles  mass {:.6g} kg  spacing {:.4g} m",
                                 b.name, b.particles, b.mass, b.spacing));
@@ -402,8 +403,7 @@ void Simulation<Dim>::finish(RunLog& log, const RunOptions& options, Clock::time
   std::vector<std::string> lines = {
       fmt::format("{}: {} steps to t = {:.6g} s (step {}) in {:.2f} s wall | {:.3g} "
                   "particle-steps/s ({:.3g} per core)",
-                  stopSignal ? "stopped" : "done", steps, time_, step_, wall, rate,
-                  rate / mpi_.size()),
+                  stopSignal ? "stopped" : "done", steps, time_, step_, wall, rate, rate / cores()),
       fmt::format("conservation: mass {:.1e} | momentum {:.1e} | total energy {:.1e} (relative)",
                   massErr, momErr, energyErr),
       "time: " + shares};
@@ -471,13 +471,14 @@ void Simulation<Dim>::finish(RunLog& log, const RunOptions& options, Clock::time
   summary.text("deck", options.deckPath)
       .text("title", deck_.run.title)
       .value("ranks", fmt::format("{}", mpi_.size()))
+      .value("threads_per_rank", fmt::format("{}", threadCount()))
       .value("dimension", fmt::format("{}", Dim))
       .value("particles", fmt::format("{}", particles()))
       .value("steps", fmt::format("{}", step_))
       .value("time", fmt::format("{:.17g}", time_))
       .value("wall_seconds", fixed6(wall))
       .value("particle_steps_per_second", fmt::format("{:.6g}", rate))
-      .value("particle_steps_per_second_per_core", fmt::format("{:.6g}", rate / mpi_.size()))
+      .value("particle_steps_per_second_per_core", fmt::format("{:.6g}", rate / cores()))
       .text("status", stopSignal ? "stopped" : "finished")
       .value("steps_this_run", fmt::format("{}", steps))
       .value("mean_neighbors", fmt::format("{:.3f}", meanNeighbors))

@@ -11,6 +11,7 @@
 #include "spall/app/Run.hpp"
 #include "spall/app/RunLog.hpp"
 #include "spall/core/ParticleFields.hpp"
+#include "spall/core/Threads.hpp"
 #include "spall/diagnostics/Conservation.hpp"
 #include "spall/diagnostics/Penetration.hpp"
 #include "spall/diagnostics/Probes.hpp"
@@ -52,6 +53,8 @@ public:
 
   // All ranks' owned particles.
   std::size_t particles() const { return totalParticles_; }
+  // The cores the run uses: ranks x threads per rank (the per-core rates divide by it).
+  double cores() const { return static_cast<double>(mpi_.size()) * threadCount(); }
   const std::vector<BodySummary>& bodies() const { return bodies_; }
   const std::vector<std::string>& warnings() const { return deferredWarnings_; }
   // A rough peak estimate: stored fields, ghosts (~10%) and neighbor indices at the target n_h.

@@ -5,6 +5,7 @@
 #include "spall/app/Run.hpp"
 #include "spall/app/SystemInfo.hpp"
 #include "spall/core/Error.hpp"
+#include "spall/core/Threads.hpp"
 #include "spall/io/Deck.hpp"
 #include "spall/parallel/Mpi.hpp"
 
@@ -23,6 +24,7 @@ int fail(const spall::parallel::MpiContext& mpi, int code, const std::string& me
 int main(int argc, char** argv) {
   spall::parallel::MpiSession session(argc, argv);
   spall::parallel::MpiContext mpi;
+  spall::configureThreads();
 
   CLI::App cli{"spall: a particle hydrocode for impact, penetration and fragmentation of solids"};
   cli.set_version_flag("--version", std::string("spall ") + spall::app::BuildInfo::version());

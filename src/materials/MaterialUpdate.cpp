@@ -81,6 +81,7 @@ void MaterialUpdate::evaluate(const MaterialFields& f) const {
     std::visit(
         [&](const auto& eos) {
           const EosStage<std::decay_t<decltype(eos)>> stage{eos, mat.porosity, f, false, mat.pMin};
+#pragma omp parallel for schedule(static)
           for (std::size_t i = 0; i < n; ++i) {
             if (f.material[i] != id) continue;
             const EosState r = stage(i);
@@ -114,6 +115,7 @@ void MaterialUpdate::update(const MaterialFields& f, double dt) const {
       std::visit(
           [&](const auto& eos) {
             const EosStage<std::decay_t<decltype(eos)>> stage{eos, mat.porosity, f, true, mat.pMin};
+#pragma omp parallel for schedule(static)
             for (std::size_t i = 0; i < n; ++i) {
               if (f.material[i] != id) continue;
               const EosState r = stage(i);
@@ -132,6 +134,7 @@ void MaterialUpdate::update(const MaterialFields& f, double dt) const {
         [&](const auto& eos, const auto& strength) {
           const double G = strength.shearModulus();
           const EosStage<std::decay_t<decltype(eos)>> stage{eos, mat.porosity, f, true, mat.pMin};
+#pragma omp parallel for schedule(static)
           for (std::size_t i = 0; i < n; ++i) {
             if (f.material[i] != id) continue;
             const StrengthState next = strength.update(
@@ -152,6 +155,7 @@ void MaterialUpdate::update(const MaterialFields& f, double dt) const {
 // what the state means at the particle's density.
 void MaterialUpdate::capPass(const CapPlasticity& cap, std::int32_t id, const MaterialFields& f,
                              bool advance, double dt) const {
+#pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < f.rho.size(); ++i) {
     if (f.material[i] != id) continue;
     const CapState before{f.S[i], f.plasticStrain[i], f.volumetricStrain[i]};
@@ -186,6 +190,7 @@ void MaterialUpdate::updateDamaged(const Material& mat, std::int32_t id, const M
         using D = std::decay_t<decltype(damage)>;
         const double G = strength.shearModulus();
         const EosStage<std::decay_t<decltype(eos)>> stage{eos, mat.porosity, f, true, mat.pMin};
+#pragma omp parallel for schedule(static)
         for (std::size_t i = 0; i < n; ++i) {
           if (f.material[i] != id) continue;
           const StrengthState before{f.Sintact[i], f.plasticStrain[i], f.temperature[i]};

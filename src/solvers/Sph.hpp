@@ -58,6 +58,7 @@ public:
     if (normalise) rhoPrev_.assign(rho.begin(), rho.end());
     const double W0 = K::sigma() * K::f(0.0);
     const auto Hs = Aniso ? s_[f_.H] : std::span<Tensor<Dim>>{};
+#pragma omp parallel for schedule(dynamic, 64)
     for (std::size_t i = 0; i < n; ++i) {
       const double hinv = 1.0 / h[i];
       const double norm = Aniso ? Hs[i].determinant() : ipow<Dim>(hinv);
@@ -93,6 +94,7 @@ public:
     const auto B = s_[f_.B];
     const double sigma = K::sigma();
     if constexpr (Aniso) prepareAnisoRows();
+#pragma omp parallel for schedule(dynamic, 64)
     for (std::size_t i = 0; i < s_.localCount(); ++i) {
       const double hiInv = 1.0 / h[i], gradNormI = sigma * ipow<Dim>(hiInv) * hiInv;
       Tensor<Dim> M = Tensor<Dim>::Zero();
@@ -119,7 +121,9 @@ public:
         B[i].template topLeftCorner<Dim, Dim>() = M.inverse().transpose();
     }
   }
-  bool correctsKernel() const override { return f_.B.valid(); }
+  bool correctsKernel() const override {
+    return f_.B.valid();
+  }
 
   void computeRates(const neighbors::NeighborList& nl) override {
     if (!f_.hasStrength())
@@ -139,6 +143,7 @@ public:
     const auto sumWH = s_[f_.sumWH];
     const SmoothingLimits lim{cfg_.nodes_per_h, cfg_.h_min,       cfg_.h_max,
                               cfg_.h_min_ratio, cfg_.h_max_ratio, cfg_.max_aspect_ratio};
+#pragma omp parallel for schedule(static)
     for (std::size_t i = 0; i < s_.localCount(); ++i) {
       const double factor = sizeFactor(psi_.nodesPerH(root<Dim>(sumWH[i])), cfg_.nodes_per_h);
       if constexpr (Aniso) {
@@ -155,17 +160,27 @@ public:
     const auto a = s_[f_.a];
     const auto mu = s_[f_.muMax];
     const double alpha = cfg_.artificial_viscosity.alpha, beta = cfg_.artificial_viscosity.beta;
+    // The smallest step and, among equal ones, the first particle: each thread's own over its
+    // rows, then the threads' in a fixed order (the sequential loop's answer on any count).
     double dt = std::numeric_limits<double>::infinity();
     std::size_t which = 0;
-    for (std::size_t i = 0; i < s_.localCount(); ++i) {
-      // Monaghan (1992): signal speed c + 1.2 (alpha c + beta max mu_ij); plus the force limit.
-      const double signal = cs[i] + 1.2 * (alpha * cs[i] + beta * mu[i]);
-      // ASPH: the shortest axis of the smoothing ellipsoid, 1/lambda_max(H).
-      const double hi = Aniso ? 1.0 / largestEigenvalue<Dim>(s_[f_.H][i]) : h[i];
-      double dti = signal > 0.0 ? hi / signal : std::numeric_limits<double>::infinity();
-      const double an = a[i].norm();
-      if (an > 0.0) dti = std::min(dti, std::sqrt(hi / an));
-      if (dti < dt) dt = dti, which = i;
+#pragma omp parallel
+    {
+      double dtT = std::numeric_limits<double>::infinity();
+      std::size_t whichT = 0;
+#pragma omp for schedule(static) nowait
+      for (std::size_t i = 0; i < s_.localCount(); ++i) {
+        // Monaghan (1992): signal speed c + 1.2 (alpha c + beta max mu_ij); plus the force limit.
+        const double signal = cs[i] + 1.2 * (alpha * cs[i] + beta * mu[i]);
+        // ASPH: the shortest axis of the smoothing ellipsoid, 1/lambda_max(H).
+        const double hi = Aniso ? 1.0 / largestEigenvalue<Dim>(s_[f_.H][i]) : h[i];
+        double dti = signal > 0.0 ? hi / signal : std::numeric_limits<double>::infinity();
+        const double an = a[i].norm();
+        if (an > 0.0) dti = std::min(dti, std::sqrt(hi / an));
+        if (dti < dtT) dtT = dti, whichT = i;
+      }
+#pragma omp critical(spall_sph_dt)
+      if (dtT < dt || (dtT == dt && whichT < which)) dt = dtT, which = whichT;
     }
     return {cfg_.cfl * dt, which};
   }
@@ -206,6 +221,7 @@ private:
   void prepareAnisoRows() {
     const auto Hs = s_[f_.H];
     anisoRow_.resize(s_.size());
+#pragma omp parallel for schedule(static)
     for (std::size_t j = 0; j < s_.size(); ++j)
       anisoRow_[j] = {Hs[j].transpose() * Hs[j], K::sigma() * Hs[j].determinant()};
   }
@@ -227,6 +243,7 @@ private:
     const auto h = s_[f_.h];
     areaMass_.resize(s_.size());
     ringR_.resize(s_.size());
+#pragma omp parallel for schedule(static)
     for (std::size_t j = 0; j < s_.size(); ++j) {
       ringR_[j] = rz::radius(x[j][0], h[j]);
       areaMass_[j] = rz::areaMass(m[j], ringR_[j]);

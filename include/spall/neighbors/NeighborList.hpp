@@ -4,12 +4,14 @@
 // supports (ASPH) when either support covers the other particle: the symmetrised
 // (gather-scatter) interaction of the SPH equations needs both sides' supports. Lists are built
 // for owned particles only, in compressed rows of 32-bit indices (memory: ~4 bytes per pair).
+#include "spall/core/Threads.hpp"
 #include "spall/core/Types.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <span>
 #include <vector>
@@ -228,89 +230,189 @@ bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
     }
   }
   const double support2 = support * support;
+  // The last build's rows estimate each chunk's share below.
+  std::vector<std::uint64_t> previous;
+  previous.swap(out.offsets);
   out.offsets.assign(owned + 1, 0);
-  // Reuse last build's size: a doubling vector would hold up to twice the memory it needs.
-  const std::size_t expected = out.indices.size() + out.indices.size() / 16;
-  out.indices.clear();
-  if (out.indices.capacity() < expected) out.indices.reserve(expected);
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> extra; // (owned i, j reaching i)
-  std::vector<std::uint32_t> hit;                             // member positions within reach
-  std::vector<double> hitR2;
+  // The particles are searched in chunks of consecutive a, in parallel (core/Threads.hpp); each
+  // chunk keeps its rows and its pairs found from the other side, and the chunks are then joined
+  // in order: the lists come out as one sequential pass makes them, on any thread count.
+  const int threads = threadCount();
+  const std::size_t chunks = threads == 1 ? 1 : 32 * static_cast<std::size_t>(threads);
+  // A chunk's rows go into its region of the list, sized from the last build's rows in the same
+  // places; what does not fit spills into a vector of its own (joined in place below).
+  struct Chunk {
+    std::uint64_t start = 0, capacity = 0, used = 0;
+    std::uint32_t* region = nullptr;
+    std::vector<std::uint32_t> spill;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> extra; // (owned i, j reaching i)
+    // (Once a row has spilled, all that follow it do: the rows stay in order.)
+    void append(const std::uint32_t* row, std::size_t length) {
+      if (spill.empty() && used + length <= capacity) {
+        std::copy_n(row, length, region + used);
+        used += length;
+      } else {
+        spill.insert(spill.end(), row, row + length);
+      }
+    }
+    std::size_t size() const { return used + spill.size(); }
+  };
+  std::vector<Chunk> parts(chunks);
   const auto cellOf = grid.cellOf();
-  for (std::size_t a = 0; a < n; ++a) {
-    const Vec<Dim> xa = x[a];
-    // (For ellipsoids the sphere is only a first cut, a little wider so that the ellipsoid
-    // test alone decides: h and H agree to rounding only.)
-    const double ra = radius[a], ra2 = ra * ra * (Ellipsoidal ? 1.0 + 1e-9 : 1.0);
-    std::array<std::int64_t, 3> reach{0, 0, 0};
-    [[maybe_unused]] Tensor<Dim> Ga;
-    if constexpr (Ellipsoidal) {
-      Ga = H[a].transpose() * H[a];
-      const Tensor<Dim> Ginv = Ga.inverse();
-      // (A broken H, non-finite, searches the whole grid and finds nothing: the run's
-      // finiteness check reports the particle.)
-      for (int d = 0; d < Dim; ++d) {
-        const double cells = std::ceil(support * std::sqrt(Ginv(d, d)) / cell);
-        reach[d] = cells < 1e9 ? static_cast<std::int64_t>(cells) : std::int64_t{1000000000};
-      }
-    } else {
-      reach.fill(static_cast<std::int64_t>(std::ceil(ra / cell)));
-    }
-    // Branch-free compaction of the candidates within reach (about a quarter of the block in
-    // 3D, so a taken/not-taken branch per candidate would mispredict often).
-    std::size_t found = 0;
-    grid.forEachRangeNear(cellOf[a], reach, [&](std::uint32_t b, std::uint32_t e) {
-      if (hit.size() < found + (e - b)) hit.resize(2 * (found + (e - b))), hitR2.resize(hit.size());
-      for (std::uint32_t m = b; m < e; ++m) {
-        const Vec<Dim> d = xa - xs[m];
-        hit[found] = m;
-        const double r2 = d.squaredNorm();
-        hitR2[found] = r2;
-        found += r2 < ra2;
-      }
-    });
-    if constexpr (Ellipsoidal) {
-      // The enclosing sphere above (radius: the longest axis) was the cheap first cut; now the
-      // ellipsoid itself, on the few that passed.
-      const double inner2 = innerRadius2(H[a]);
-      std::size_t kept = 0;
-      for (std::size_t k = 0; k < found; ++k) {
-        const std::uint32_t m = hit[k];
-        bool in = hitR2[k] < inner2;
-        if (!in) {
-          const Vec<Dim> d = xa - xs[m];
-          in = d.dot(Ga * d) < support2;
-        }
-        hit[kept] = m;
-        hitR2[kept] = hitR2[k];
-        kept += in;
-      }
-      found = kept;
-    }
-    const bool aOwned = a < owned;
-    for (std::size_t k = 0; k < found; ++k) {
-      const std::uint32_t m = hit[k], b = members[m];
-      if (b == a) continue;
-      if (aOwned) out.indices.push_back(b);
-      // b does not reach a itself: its row gets a from this side. (For ellipsoids the test is
-      // b's gather test evaluated again here; should rounding ever decide a pair at exactly
-      // |H x| = support differently from the two sides, the pair sits where W and W' vanish.)
-      bool bReaches;
+  const auto search = [&](std::size_t aBegin, std::size_t aEnd, Chunk& chunk) {
+    std::vector<std::uint32_t> hit, row; // member positions within reach; a's row
+    std::vector<double> hitR2;
+    for (std::size_t a = aBegin; a < aEnd; ++a) {
+      const Vec<Dim> xa = x[a];
+      // (For ellipsoids the sphere is only a first cut, a little wider so that the ellipsoid
+      // test alone decides: h and H agree to rounding only.)
+      const double ra = radius[a], ra2 = ra * ra * (Ellipsoidal ? 1.0 + 1e-9 : 1.0);
+      std::array<std::int64_t, 3> reach{0, 0, 0};
+      [[maybe_unused]] Tensor<Dim> Ga;
       if constexpr (Ellipsoidal) {
-        if (hitR2[k] < inner2s[m]) {
-          bReaches = true;
-        } else if (hitR2[k] >= rs[m] * rs[m] * (1.0 + 1e-9)) {
-          bReaches = false; // outside b's enclosing sphere
-        } else {
-          const Vec<Dim> d = xa - xs[m];
-          bReaches = d.dot(Gs[m] * d) < support2;
+        Ga = H[a].transpose() * H[a];
+        const Tensor<Dim> Ginv = Ga.inverse();
+        // (A broken H, non-finite, searches the whole grid and finds nothing: the run's
+        // finiteness check reports the particle.)
+        for (int d = 0; d < Dim; ++d) {
+          const double cells = std::ceil(support * std::sqrt(Ginv(d, d)) / cell);
+          reach[d] = cells < 1e9 ? static_cast<std::int64_t>(cells) : std::int64_t{1000000000};
         }
       } else {
-        bReaches = hitR2[k] < rs[m] * rs[m];
+        reach.fill(static_cast<std::int64_t>(std::ceil(ra / cell)));
       }
-      if (b < owned && !bReaches) extra.emplace_back(b, static_cast<std::uint32_t>(a));
+      // Branch-free compaction of the candidates within reach (about a quarter of the block in
+      // 3D, so a taken/not-taken branch per candidate would mispredict often).
+      std::size_t found = 0;
+      grid.forEachRangeNear(cellOf[a], reach, [&](std::uint32_t b, std::uint32_t e) {
+        if (hit.size() < found + (e - b))
+          hit.resize(2 * (found + (e - b))), hitR2.resize(hit.size());
+        for (std::uint32_t m = b; m < e; ++m) {
+          const Vec<Dim> d = xa - xs[m];
+          hit[found] = m;
+          const double r2 = d.squaredNorm();
+          hitR2[found] = r2;
+          found += r2 < ra2;
+        }
+      });
+      if constexpr (Ellipsoidal) {
+        // The enclosing sphere above (radius: the longest axis) was the cheap first cut; now the
+        // ellipsoid itself, on the few that passed.
+        const double inner2 = innerRadius2(H[a]);
+        std::size_t kept = 0;
+        for (std::size_t k = 0; k < found; ++k) {
+          const std::uint32_t m = hit[k];
+          bool in = hitR2[k] < inner2;
+          if (!in) {
+            const Vec<Dim> d = xa - xs[m];
+            in = d.dot(Ga * d) < support2;
+          }
+          hit[kept] = m;
+          hitR2[kept] = hitR2[k];
+          kept += in;
+        }
+        found = kept;
+      }
+      const bool aOwned = a < owned;
+      if (row.size() < found) row.resize(hit.size());
+      std::size_t length = 0;
+      for (std::size_t k = 0; k < found; ++k) {
+        const std::uint32_t m = hit[k], b = members[m];
+        if (b == a) continue;
+        row[length++] = b;
+        // b does not reach a itself: its row gets a from this side. (For ellipsoids the test is
+        // b's gather test evaluated again here; should rounding ever decide a pair at exactly
+        // |H x| = support differently from the two sides, the pair sits where W and W' vanish.)
+        bool bReaches;
+        if constexpr (Ellipsoidal) {
+          if (hitR2[k] < inner2s[m]) {
+            bReaches = true;
+          } else if (hitR2[k] >= rs[m] * rs[m] * (1.0 + 1e-9)) {
+            bReaches = false; // outside b's enclosing sphere
+          } else {
+            const Vec<Dim> d = xa - xs[m];
+            bReaches = d.dot(Gs[m] * d) < support2;
+          }
+        } else {
+          bReaches = hitR2[k] < rs[m] * rs[m];
+        }
+        if (b < owned && !bReaches) chunk.extra.emplace_back(b, static_cast<std::uint32_t>(a));
+      }
+      // The row, appended whole; its end relative to the chunk's first row (made absolute when
+      // joined).
+      if (aOwned) {
+        chunk.append(row.data(), length);
+        out.offsets[a + 1] = chunk.size();
+      }
     }
-    if (aOwned) out.offsets[a + 1] = out.indices.size();
+  };
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> extra;
+  // The first build (no estimate of the regions yet) runs on one thread, all of it a spill that
+  // then becomes the list. Later ones write into regions, on one thread too (a row goes into a
+  // region with one copy: faster than into a growing vector).
+  if (previous.size() < 2 || previous.back() == 0) {
+    Chunk all;
+    all.spill.swap(out.indices);
+    all.spill.clear();
+    search(0, n, all);
+    out.indices.swap(all.spill);
+    extra.swap(all.extra);
+  } else {
+    const std::size_t before = previous.size() - 1; // last build's owned rows
+    const double perRow = static_cast<double>(previous.back()) / static_cast<double>(before);
+    std::uint64_t total = 0;
+    for (std::size_t c = 0; c < chunks; ++c) {
+      const std::size_t b = std::min(chunkBegin(n, chunks, c), owned);
+      const std::size_t e = std::min(chunkBegin(n, chunks, c + 1), owned);
+      const std::size_t bb = std::min(b, before), eb = std::min(e, before);
+      const double estimate = static_cast<double>(previous[eb] - previous[bb]) +
+                              perRow * static_cast<double>(e - b - (eb - bb));
+      parts[c].start = total;
+      parts[c].capacity = static_cast<std::uint64_t>(1.03 * estimate) + 64 * (e > b);
+      total += parts[c].capacity;
+    }
+    // Room to grow by a fifth (reserved, not touched) before the list moves: spills are joined in
+    // place up to it.
+    if (out.indices.capacity() < total) {
+      std::vector<std::uint32_t>().swap(out.indices);
+      out.indices.reserve(total + total / 5);
+    }
+    out.indices.resize(total); // (only what lies past the last build's pairs is written here)
+    for (auto& part : parts) part.region = out.indices.data() + part.start;
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::size_t c = 0; c < chunks; ++c)
+      search(chunkBegin(n, chunks, c), chunkBegin(n, chunks, c + 1), parts[c]);
+    // Join in place: chunk c's rows (its region, then its spill) go to base[c], right after the
+    // chunk before. Chunks that move up are placed first, the last first, then those that move
+    // down, the first first: no chunk's destination then covers rows not yet moved (each
+    // destination ends where the next chunk's begins, and a chunk moving down begins at or
+    // below its region). Memory: the list once, grown only by what all chunks spilled in all.
+    std::vector<std::uint64_t> base(chunks + 1, 0);
+    std::size_t extras = 0;
+    for (std::size_t c = 0; c < chunks; ++c) {
+      base[c + 1] = base[c] + parts[c].size();
+      extras += parts[c].extra.size();
+    }
+    if (base[chunks] > out.indices.size()) out.indices.resize(base[chunks]);
+    std::uint32_t* list = out.indices.data();
+    const auto place = [&](std::size_t c) {
+      std::memmove(list + base[c], list + parts[c].start, parts[c].used * sizeof(std::uint32_t));
+      std::copy(parts[c].spill.begin(), parts[c].spill.end(), list + base[c] + parts[c].used);
+    };
+    for (std::size_t c = chunks; c-- > 0;)
+      if (base[c] > parts[c].start) place(c);
+    for (std::size_t c = 0; c < chunks; ++c)
+      if (base[c] <= parts[c].start) place(c);
+    out.indices.resize(base[chunks]);
+#pragma omp parallel for schedule(static)
+    for (std::size_t c = 0; c < chunks; ++c) {
+      const std::size_t b = std::min(chunkBegin(n, chunks, c), owned);
+      const std::size_t e = std::min(chunkBegin(n, chunks, c + 1), owned);
+      for (std::size_t a = b; a < e; ++a) out.offsets[a + 1] += base[c];
+    }
+    extra.reserve(extras);
+    for (std::size_t c = 0; c < chunks; ++c)
+      extra.insert(extra.end(), parts[c].extra.begin(), parts[c].extra.end());
   }
   if (extra.empty()) return kept || !order;
   // Group the pairs found from the other side by their owned particle with a counting sort (they

@@ -1,6 +1,8 @@
 // The cell-list neighbor search against brute force, with unequal h and ghosts.
 #include "spall/neighbors/NeighborList.hpp"
 
+#include "spall/core/Threads.hpp"
+
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 #include <random>
@@ -97,4 +99,71 @@ TEST(NeighborList, EllipsoidalSupportsMatchBruteForce2D) {
 }
 TEST(NeighborList, EllipsoidalSupportsMatchBruteForce3D) {
   compareEllipsoidsWithBruteForce<3>(3000, 2500);
+}
+
+namespace {
+// The search in parallel chunks must give the lists one sequential pass gives, entry for entry
+// (not only the same sets): the force loop adds its neighbors in list order, and a different
+// order changes the sums' last bits. Unequal h (pairs found from the larger support's side, the
+// `extra` groups merged into rows) and ghosts past the owned rows, which chunk boundaries split.
+template <int Dim> void compareThreadCounts(bool ellipsoids) {
+  const std::size_t n = 4000, owned = 3100;
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0), hd(0.02, 0.08);
+  std::vector<Vec<Dim>> x(n);
+  std::vector<double> h(n);
+  std::vector<Tensor<Dim>> H(n);
+  std::vector<ParticleId> id(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int d = 0; d < Dim; ++d) x[i][d] = u(rng);
+    h[i] = hd(rng);
+    Vec<Dim> axes;
+    for (int d = 0; d < Dim; ++d) axes[d] = hd(rng);
+    H[i] = axes.cwiseInverse().asDiagonal();
+    if (ellipsoids) h[i] = axes.maxCoeff();
+    id[i] = static_cast<ParticleId>((i * 7919) % n); // rows not in id order
+  }
+  const neighbors::CanonicalOrder<Dim> order{id, x, 0.05};
+  // Three builds into one list, as a run's steps: the first (no estimate of the chunks' shares
+  // yet) on one thread, the second into regions sized by the first, the third with supports 30%
+  // wider, so that the chunks overflow their regions and spill.
+  const auto builds = [&](int threads, const neighbors::CanonicalOrder<Dim>* o) {
+    const int before = threadCount();
+    setThreadCount(threads);
+    neighbors::CellGrid<Dim> grid;
+    neighbors::NeighborList nl;
+    std::vector<neighbors::NeighborList> lists;
+    for (double scale : {1.0, 1.0, 1.3}) {
+      std::vector<double> hs(h);
+      std::vector<Tensor<Dim>> Hs(H);
+      for (std::size_t i = 0; i < n; ++i) hs[i] *= scale, Hs[i] /= scale;
+      if (ellipsoids)
+        neighbors::buildNeighborList<Dim>(x, hs, std::span<const Tensor<Dim>>(Hs), owned, 2.0, grid,
+                                          nl, o);
+      else
+        neighbors::buildNeighborList<Dim>(x, hs, owned, 2.0, grid, nl, o);
+      lists.push_back(nl);
+    }
+    setThreadCount(before);
+    return lists;
+  };
+  for (const auto* o : {&order, static_cast<const neighbors::CanonicalOrder<Dim>*>(nullptr)}) {
+    const auto one = builds(1, o);
+    ASSERT_GT(one[0].pairs(), 10 * owned);
+    ASSERT_GT(one[2].pairs(), one[1].pairs() + one[1].pairs() / 5); // past the regions' margin
+    for (int threads : {2, 3, 7}) {
+      const auto many = builds(threads, o);
+      for (std::size_t b = 0; b < one.size(); ++b) {
+        EXPECT_EQ(many[b].offsets, one[b].offsets) << threads << " threads, build " << b;
+        EXPECT_EQ(many[b].indices, one[b].indices) << threads << " threads, build " << b;
+      }
+    }
+  }
+}
+} // namespace
+
+TEST(NeighborList, SameListsOnAnyThreadCount) {
+  compareThreadCounts<2>(false);
+  compareThreadCounts<3>(false);
+  compareThreadCounts<3>(true);
 }
