@@ -5,11 +5,22 @@ A script: `from spalltest import Checks`, `t = Checks()`, `t.check(ok, message)`
 `t.run(deck, out, *sets, ranks=2)`, ..., and `t.finish()` last (exit 1 when a check failed).
 """
 import csv
+import os
 import subprocess
 import sys
 
 import h5py
 import numpy as np
+
+
+def mpirun(ranks):
+    """The launcher of a run on `ranks` ranks and its environment: each rank runs the test's share
+    of the cores ctest gave it (SPALL_TEST_CORES, its PROCESSORS) as threads. A run's particles
+    are the same bit for bit on any thread count (tests/mpi/test_thread_invariance.py), so a
+    single-rank run only finishes sooner."""
+    threads = max(1, int(os.environ.get("SPALL_TEST_CORES", "1")) // ranks)
+    return (["mpirun", "--allow-run-as-root", "--oversubscribe", "--bind-to", "none", "-x", "OMP_NUM_THREADS",
+             "-np", str(ranks)], dict(os.environ, OMP_NUM_THREADS=str(threads)))
 
 
 class Checks:
@@ -26,13 +37,13 @@ class Checks:
     def run(self, deck, out, *sets, ranks=1, restart=None):
         """spall run DECK --output OUT --set ... on `ranks` ranks; False (and a failed check
         naming the run and its stderr) when it exits non-zero."""
-        cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(ranks), self.spall,
-               "run", str(deck), "--output", str(out), "--quiet"]
+        launcher, env = mpirun(ranks)
+        cmd = launcher + [self.spall, "run", str(deck), "--output", str(out), "--quiet"]
         for s in sets:
             cmd += ["--set", s]
         if restart:
             cmd += ["--restart", restart]
-        p = subprocess.run(cmd, capture_output=True, text=True, stdin=subprocess.DEVNULL)
+        p = subprocess.run(cmd, capture_output=True, text=True, env=env, stdin=subprocess.DEVNULL)
         if p.returncode != 0:
             self.check(False, f"{out.name}: exit {p.returncode}\n{p.stderr[-2000:]}")
             return False

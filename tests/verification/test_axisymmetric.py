@@ -39,6 +39,8 @@ from pathlib import Path
 import h5py
 import numpy as np
 
+import spalltest
+
 SPALL, SRC = sys.argv[1], Path(sys.argv[2])
 failures = []
 
@@ -52,11 +54,11 @@ def check(ok, message):
 def run(deck_text, out, *sets, ranks=1):
     deck = out.with_suffix(".toml")
     deck.write_text(deck_text)
-    cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(ranks), SPALL, "run",
-           str(deck), "--output", str(out), "--quiet"]
+    launcher, env = spalltest.mpirun(ranks)
+    cmd = launcher + [SPALL, "run", str(deck), "--output", str(out), "--quiet"]
     for s in sets:
         cmd += ["--set", s]
-    p = subprocess.run(cmd, capture_output=True, text=True, stdin=subprocess.DEVNULL)
+    p = subprocess.run(cmd, capture_output=True, text=True, env=env, stdin=subprocess.DEVNULL)
     if p.returncode != 0:
         check(False, f"{out.name}: exit {p.returncode}\n{p.stderr[-2000:]}")
         return False

@@ -29,6 +29,8 @@ import sys
 import tempfile
 from pathlib import Path
 
+import spalltest
+
 SPALL, SRC = sys.argv[1], Path(sys.argv[2])
 HYDRO = SRC / "decks/rod_penetration_hydro_rz.toml"
 failures = []
@@ -41,13 +43,13 @@ def check(ok, message):
 
 
 def run(deck, out, *sets, ranks=1, restart=None):
-    cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(ranks), SPALL, "run",
-           str(deck), "--output", str(out), "--quiet"]
+    launcher, env = spalltest.mpirun(ranks)
+    cmd = launcher + [SPALL, "run", str(deck), "--output", str(out), "--quiet"]
     for s in sets:
         cmd += ["--set", s]
     if restart:
         cmd += ["--restart", restart]
-    p = subprocess.run(cmd, capture_output=True, text=True, stdin=subprocess.DEVNULL)
+    p = subprocess.run(cmd, capture_output=True, text=True, env=env, stdin=subprocess.DEVNULL)
     if p.returncode != 0:
         check(False, f"{out.name}: exit {p.returncode}\n{p.stderr[-2000:]}")
         return False
