@@ -96,14 +96,17 @@ public:
     // remap's correction takes out of L).
     velocity_.assign(N, Vec<Dim>::Zero());
     increment_.assign(N, Vec<Dim>::Zero());
+#pragma omp parallel for schedule(static)
     for (std::size_t I = 0; I < N; ++I)
       if (mass_[I] > 0.0) increment_[I] = momentum_[I] / mass_[I];
     if (rigid) prescribe(increment_);
     if (multi_) contact(increment_);
+#pragma omp parallel for schedule(static)
     for (std::size_t I = 0; I < N; ++I)
       if (mass_[I] > 0.0) velocity_[I] = increment_[I] + (dt / mass_[I]) * force_[I];
     if (rigid) prescribe(velocity_);
     if (multi_) contact(velocity_);
+#pragma omp parallel for schedule(static)
     for (std::size_t I = 0; I < N; ++I) {
       constrain(I, increment_[I]);
       constrain(I, velocity_[I]);
@@ -119,6 +122,8 @@ public:
     // taken (the ghosts keep theirs: only owned rows move here).
     if (affine) start_.assign(P.x.begin(), P.x.begin() + static_cast<std::ptrdiff_t>(P.owned));
     const double flip = c_.flip;
+    // G2P: each owned row gathers from its nodes (threads: core/Threads.hpp).
+#pragma omp parallel for schedule(static)
     for (std::size_t r = 0; r < P.owned; ++r) {
       if (rigid && P.rigid[r]) { // a fixed body moves at its own velocity
         P.x[r] += dt * P.v[r];
@@ -180,11 +185,14 @@ public:
         momentum_[node_[e]] += S_[e] * mv;
       }
     }
+#pragma omp parallel for schedule(static)
     for (std::size_t I = 0; I < N; ++I)
       velocity_[I] = mass_[I] > 0.0 ? Vec<Dim>(momentum_[I] / mass_[I]) : Vec<Dim>::Zero();
     if (!rigid_.empty()) prescribe(velocity_);
     if (multi_) contact(velocity_);
+#pragma omp parallel for schedule(static)
     for (std::size_t I = 0; I < N; ++I) constrain(I, velocity_[I]);
+#pragma omp parallel for schedule(static)
     for (std::size_t r = 0; r < P.owned; ++r) {
       Tensor<Dim> l = Tensor<Dim>::Zero();
       double vr = 0.0; // rz: the point's radial velocity, for the hoop rate v_r / r
@@ -223,21 +231,36 @@ private:
     lo.fill(std::numeric_limits<std::int64_t>::max());
     hi.fill(std::numeric_limits<std::int64_t>::min());
     std::size_t e = 0;
-    for (std::size_t r = 0; r < rows; ++r) {
-      begin_[r] = e;
-      if constexpr (kBlock) {
-        const auto b = mpm::block<Shape, Dim>(P.x[r], origin_, c_.cell_size, P.halfWidth[r]);
-        first_[r] = b.first;
-        for (int q = 0; q < K; ++q, ++e) {
-          S_[e] = b.S[static_cast<std::size_t>(q)];
-          grad_[e] = b.grad[static_cast<std::size_t>(q)];
+    if constexpr (kBlock) {
+      // A block's K entries at r K: rows in parallel, the box's bounds (exact minima and maxima)
+      // merged from each thread's.
+#pragma omp parallel
+      {
+        Key loT = lo, hiT = hi;
+#pragma omp for schedule(static) nowait
+        for (std::size_t r = 0; r < rows; ++r) {
+          const auto b = mpm::block<Shape, Dim>(P.x[r], origin_, c_.cell_size, P.halfWidth[r]);
+          first_[r] = b.first;
+          begin_[r] = r * K;
+          for (int q = 0; q < K; ++q) {
+            S_[r * K + static_cast<std::size_t>(q)] = b.S[static_cast<std::size_t>(q)];
+            grad_[r * K + static_cast<std::size_t>(q)] = b.grad[static_cast<std::size_t>(q)];
+          }
+          for (int a = 0; a < Dim; ++a) {
+            const auto sa = static_cast<std::size_t>(a);
+            loT[sa] = std::min(loT[sa], b.first[sa]);
+            hiT[sa] = std::max(hiT[sa], b.first[sa] + mpm::kNodesPerAxis<Shape> - 1);
+          }
         }
-        for (int a = 0; a < Dim; ++a) {
-          const auto sa = static_cast<std::size_t>(a);
-          lo[sa] = std::min(lo[sa], b.first[sa]);
-          hi[sa] = std::max(hi[sa], b.first[sa] + mpm::kNodesPerAxis<Shape> - 1);
-        }
-      } else {
+#pragma omp critical(spall_mpm_box)
+        for (std::size_t a = 0; a < Dim; ++a)
+          lo[a] = std::min(lo[a], loT[a]), hi[a] = std::max(hi[a], hiT[a]);
+      }
+      e = rows * K;
+    }
+    if constexpr (!kBlock) {
+      for (std::size_t r = 0; r < rows; ++r) {
+        begin_[r] = e;
         const auto w = mpm::cpdi<Dim>(P.x[r], P.domain[r], origin_, c_.cell_size);
         for (int q = 0; q < w.count; ++q, ++e) {
           const auto sq = static_cast<std::size_t>(q);
@@ -274,7 +297,9 @@ private:
 
   void numberFields(const MpmParticles<Dim>& P, std::size_t rows); // MpmGridContact.hpp
   // A field node's lattice node.
-  std::size_t lattice(std::size_t I) const { return multi_ ? site_[I] : I; }
+  std::size_t lattice(std::size_t I) const {
+    return multi_ ? site_[I] : I;
+  }
 
   void nodeLoads(const MpmParticles<Dim>& P, std::size_t rows); // MpmGridLoads.hpp
   void applyLoads();                                            // MpmGridLoads.hpp
@@ -285,7 +310,9 @@ private:
       if (rigid_[I]) v[I] = rigidV_[I];
   }
 
-  std::size_t fields() const { return multi_ ? site_.size() : key_.size(); }
+  std::size_t fields() const {
+    return multi_ ? site_.size() : key_.size();
+  }
 
   void contact(std::vector<Vec<Dim>>& v) const; // MpmGridContact.hpp
   // Row r's entries [from(r), to(r)): a block's a fixed count (the loops unroll), CPDI's a list.
@@ -357,7 +384,9 @@ private:
   }
 
   double capacity(std::size_t L) const; // MpmGridContact.hpp
-  void constrain(std::size_t I, Vec<Dim>& v) const { constrainAt(key_[lattice(I)], v); }
+  void constrain(std::size_t I, Vec<Dim>& v) const {
+    constrainAt(key_[lattice(I)], v);
+  }
   void constrainAt(const Key& k, Vec<Dim>& v) const {
     if (walls_.empty()) return;
     const Vec<Dim> X = place(k);

@@ -4,7 +4,8 @@ give the same particle state, matched by id, and the same history, bit for bit: 
 loop writes a particle's row from that row's inputs only, the neighbor sums in the list's
 canonical order, and the reductions (the time step) combine in a fixed order
 (core/Threads.hpp). Each case takes the loops a deck's physics adds: the hydro and solid force
-loops, ASPH, the corrected kernel, rz, damage, the cap return, P-alpha, MPM's material update.
+loops, ASPH, the corrected kernel, rz, damage, the cap return, P-alpha, MPM's weights, grid
+update, G2P and material update.
 
 usage: test_thread_invariance.py SPALL SOURCE_DIR
 """
@@ -65,7 +66,11 @@ CASES = [("sod_1d.toml", []),
          ("rock_impact_2d.toml", ["run.end_time=3e-6", 'material.basalt.damage.mode="tensor"']),
          ("sandstone_confined_2d.toml", ["run.end_time=6e-6", "run.resolution=0.5"]),
          ("pumice_impact_2d.toml", ["run.end_time=1.0e-6", "run.resolution=0.5"]),
-         ("two_disks_mpm_2d.toml", ["run.end_time=1.0"])]
+         ("two_disks_mpm_2d.toml", ["run.end_time=1.0"]),
+         # MPM's weights, grid update and G2P: GIMP with APIC in 3D, CPDI in 2D
+         ("taylor_bar_3d.toml", ["run.resolution=0.4", "run.max_steps=30", "solver.method=mpm",
+                                 'solver.mpm.transfer="apic"']),
+         ("stretching_bar_mpm_2d.toml", ["run.end_time=0.005"])]
 
 with tempfile.TemporaryDirectory() as tmp:
     tmp = Path(tmp)
