@@ -9,6 +9,7 @@ update, G2P and material update.
 
 usage: test_thread_invariance.py SPALL SOURCE_DIR
 """
+import json
 import os
 import subprocess
 import sys
@@ -39,7 +40,10 @@ def run(deck, ranks, threads, out, sets):
     if p.returncode != 0:
         failures.append(f"{deck.name} on {ranks} x {threads}: exit {p.returncode}\n{p.stderr[-2000:]}")
         return False
-    return True
+    # Else a build without OpenMP, or a launcher that drops OMP_NUM_THREADS, would pass untested.
+    ran = json.loads((out / "summary.json").read_text())["threads_per_rank"]
+    check(ran == threads, f"{deck.name}: {ranks} x {threads} ran {ran} thread(s) per rank")
+    return ran == threads
 
 
 def final_state(out):
@@ -63,6 +67,10 @@ CASES = [("sod_1d.toml", []),
          ("elastic_plate_2d.toml", ["run.max_steps=150"]),
          ("taylor_bar_3d.toml", ["run.resolution=0.4", "run.max_steps=40"]),
          ("taylor_bar_rz.toml", ["run.end_time=1e-5"]),
+         # the product stress form with strength (copper on PMMA)
+         ("rod_impact_pmma_pad_strength.toml", ["run.end_time=4e-6"]),
+         # the confining pressure's surface sums and load, damping
+         ("sandstone_confinement_rz.toml", ["run.resolution=0.5", "run.max_steps=150"]),
          ("rock_impact_2d.toml", ["run.end_time=3e-6", 'material.basalt.damage.mode="tensor"']),
          ("sandstone_confined_2d.toml", ["run.end_time=6e-6", "run.resolution=0.5"]),
          ("pumice_impact_2d.toml", ["run.end_time=1.0e-6", "run.resolution=0.5"]),

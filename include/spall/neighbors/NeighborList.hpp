@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <exception>
 #include <limits>
 #include <span>
 #include <vector>
@@ -379,9 +380,18 @@ bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
     }
     out.indices.resize(total); // (only what lies past the last build's pairs is written here)
     for (auto& part : parts) part.region = out.indices.data() + part.start;
+    // (An exception must not leave a parallel region: a failed allocation is carried out.)
+    std::exception_ptr failure;
 #pragma omp parallel for schedule(dynamic, 1)
-    for (std::size_t c = 0; c < chunks; ++c)
-      search(chunkBegin(n, chunks, c), chunkBegin(n, chunks, c + 1), parts[c]);
+    for (std::size_t c = 0; c < chunks; ++c) {
+      try {
+        search(chunkBegin(n, chunks, c), chunkBegin(n, chunks, c + 1), parts[c]);
+      } catch (...) {
+#pragma omp critical(spall_neighbor_failure)
+        if (!failure) failure = std::current_exception();
+      }
+    }
+    if (failure) std::rethrow_exception(failure);
     // Join in place: chunk c's rows (its region, then its spill) go to base[c], right after the
     // chunk before. Chunks that move up are placed first, the last first, then those that move
     // down, the first first: no chunk's destination then covers rows not yet moved (each

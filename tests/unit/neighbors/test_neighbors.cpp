@@ -124,25 +124,56 @@ template <int Dim> void compareThreadCounts(bool ellipsoids) {
     id[i] = static_cast<ParticleId>((i * 7919) % n); // rows not in id order
   }
   const neighbors::CanonicalOrder<Dim> order{id, x, 0.05};
-  // Three builds into one list, as a run's steps: the first (no estimate of the chunks' shares
-  // yet) on one thread, the second into regions sized by the first, the third with supports 30%
-  // wider, so that the chunks overflow their regions and spill.
+  // Builds into one list, as a run's steps: the first (no estimate of the chunks' shares yet) on
+  // one thread; then into regions sized by the last build; supports 30% wider (the chunks
+  // overflow their regions, spill and move up); only the lower half's supports wider again
+  // (chunks moving up and down in one join); fewer owned rows and particles, then more (rows
+  // past the last build's estimated from its mean); none owned; none at all.
+  struct Step {
+    double scale, lowerScale;
+    std::size_t count, ownedRows;
+  };
+  const std::vector<Step> steps = {{1.0, 1.0, n, owned},
+                                   {1.0, 1.0, n, owned},
+                                   {1.3, 1.3, n, owned},
+                                   {1.0, 1.4, n, owned},
+                                   {1.0, 1.0, n - 700, owned - 600},
+                                   {1.1, 1.1, n, owned},
+                                   {1.0, 1.0, n, 0},
+                                   {1.0, 1.0, 0, 0}};
+  const auto build = [&](neighbors::CellGrid<Dim>& grid, neighbors::NeighborList& nl,
+                         const Step& st, const neighbors::CanonicalOrder<Dim>* o) {
+    std::vector<Vec<Dim>> xs(x.begin(), x.begin() + static_cast<std::ptrdiff_t>(st.count));
+    std::vector<double> hs(h.begin(), h.begin() + static_cast<std::ptrdiff_t>(st.count));
+    std::vector<Tensor<Dim>> Hs(H.begin(), H.begin() + static_cast<std::ptrdiff_t>(st.count));
+    for (std::size_t i = 0; i < st.count; ++i) {
+      const double s = x[i][0] < 0.5 ? st.lowerScale : st.scale;
+      hs[i] *= s, Hs[i] /= s;
+    }
+    const neighbors::CanonicalOrder<Dim> part{std::span<const ParticleId>(id).first(st.count), xs,
+                                              0.05};
+    const auto* po = o ? &part : nullptr;
+    if (ellipsoids)
+      neighbors::buildNeighborList<Dim>(xs, hs, std::span<const Tensor<Dim>>(Hs), st.ownedRows, 2.0,
+                                        grid, nl, po);
+    else
+      neighbors::buildNeighborList<Dim>(xs, hs, st.ownedRows, 2.0, grid, nl, po);
+  };
   const auto builds = [&](int threads, const neighbors::CanonicalOrder<Dim>* o) {
     const int before = threadCount();
     setThreadCount(threads);
     neighbors::CellGrid<Dim> grid;
     neighbors::NeighborList nl;
     std::vector<neighbors::NeighborList> lists;
-    for (double scale : {1.0, 1.0, 1.3}) {
-      std::vector<double> hs(h);
-      std::vector<Tensor<Dim>> Hs(H);
-      for (std::size_t i = 0; i < n; ++i) hs[i] *= scale, Hs[i] /= scale;
-      if (ellipsoids)
-        neighbors::buildNeighborList<Dim>(x, hs, std::span<const Tensor<Dim>>(Hs), owned, 2.0, grid,
-                                          nl, o);
-      else
-        neighbors::buildNeighborList<Dim>(x, hs, owned, 2.0, grid, nl, o);
+    for (const Step& st : steps) {
+      build(grid, nl, st, o);
       lists.push_back(nl);
+      // Each against a first build of the same particles (the one-thread pass, no regions).
+      neighbors::CellGrid<Dim> freshGrid;
+      neighbors::NeighborList fresh;
+      build(freshGrid, fresh, st, o);
+      EXPECT_EQ(fresh.offsets, nl.offsets) << threads << " threads, step " << lists.size();
+      EXPECT_EQ(fresh.indices, nl.indices) << threads << " threads, step " << lists.size();
     }
     setThreadCount(before);
     return lists;
