@@ -1,4 +1,5 @@
 #include "spall/materials/MaterialUpdate.hpp"
+#include "spall/core/Threads.hpp"
 
 #include <algorithm>
 #include <numbers>
@@ -81,7 +82,7 @@ void MaterialUpdate::evaluate(const MaterialFields& f) const {
     std::visit(
         [&](const auto& eos) {
           const EosStage<std::decay_t<decltype(eos)>> stage{eos, mat.porosity, f, false, mat.pMin};
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (threaded(n))
           for (std::size_t i = 0; i < n; ++i) {
             if (f.material[i] != id) continue;
             const EosState r = stage(i);
@@ -115,7 +116,7 @@ void MaterialUpdate::update(const MaterialFields& f, double dt) const {
       std::visit(
           [&](const auto& eos) {
             const EosStage<std::decay_t<decltype(eos)>> stage{eos, mat.porosity, f, true, mat.pMin};
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (threaded(n))
             for (std::size_t i = 0; i < n; ++i) {
               if (f.material[i] != id) continue;
               const EosState r = stage(i);
@@ -134,7 +135,7 @@ void MaterialUpdate::update(const MaterialFields& f, double dt) const {
         [&](const auto& eos, const auto& strength) {
           const double G = strength.shearModulus();
           const EosStage<std::decay_t<decltype(eos)>> stage{eos, mat.porosity, f, true, mat.pMin};
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (threaded(n))
           for (std::size_t i = 0; i < n; ++i) {
             if (f.material[i] != id) continue;
             const StrengthState next = strength.update(
@@ -155,7 +156,7 @@ void MaterialUpdate::update(const MaterialFields& f, double dt) const {
 // what the state means at the particle's density.
 void MaterialUpdate::capPass(const CapPlasticity& cap, std::int32_t id, const MaterialFields& f,
                              bool advance, double dt) const {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (threaded(f.rho.size()))
   for (std::size_t i = 0; i < f.rho.size(); ++i) {
     if (f.material[i] != id) continue;
     const CapState before{f.S[i], f.plasticStrain[i], f.volumetricStrain[i]};
@@ -190,7 +191,7 @@ void MaterialUpdate::updateDamaged(const Material& mat, std::int32_t id, const M
         using D = std::decay_t<decltype(damage)>;
         const double G = strength.shearModulus();
         const EosStage<std::decay_t<decltype(eos)>> stage{eos, mat.porosity, f, true, mat.pMin};
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (threaded(n))
         for (std::size_t i = 0; i < n; ++i) {
           if (f.material[i] != id) continue;
           const StrengthState before{f.Sintact[i], f.plasticStrain[i], f.temperature[i]};

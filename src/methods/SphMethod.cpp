@@ -1,4 +1,5 @@
 #include "spall/methods/SphMethod.hpp"
+#include "spall/core/Threads.hpp"
 
 #include "spall/core/Error.hpp"
 
@@ -102,14 +103,14 @@ template <int Dim> void SphMethod<Dim>::kickDrift(double dt) {
   const auto dedt = s_[f_.dedt];
   const auto drhodt = s_[f_.drhodt];
   const std::size_t n = s_.localCount();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (threaded(n))
   for (std::size_t i = 0; i < n; ++i) {
     x[i] += dt * v[i] + (0.5 * dt * dt) * a[i];
     v[i] += dt * a[i];
     e[i] += dt * dedt[i];
   }
   if (!solver_->usesSummationDensity())
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (threaded(n))
     for (std::size_t i = 0; i < n; ++i) rho[i] += dt * drhodt[i];
 }
 
@@ -122,13 +123,13 @@ template <int Dim> void SphMethod<Dim>::kick(double dt) {
   const auto drhodt = s_[f_.drhodt], drhodtOld = s_[f_.drhodtOld];
   const double half = 0.5 * dt;
   const std::size_t n = s_.localCount();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (threaded(n))
   for (std::size_t i = 0; i < n; ++i) {
     v[i] += half * (a[i] - aOld[i]);
     e[i] += half * (dedt[i] - dedtOld[i]);
   }
   if (!solver_->usesSummationDensity())
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (threaded(n))
     for (std::size_t i = 0; i < n; ++i) rho[i] += half * (drhodt[i] - drhodtOld[i]);
 }
 

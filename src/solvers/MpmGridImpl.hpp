@@ -3,6 +3,7 @@
 // unroll over a block's fixed count of nodes): the transfers and the nodes' numbering here, the
 // frictionless contact between velocity fields in MpmGridContact.hpp, the pressure loads in
 // MpmGridLoads.hpp. Private to src/solvers (MpmGrid.cpp makes them).
+#include "spall/core/Threads.hpp"
 #include "spall/solvers/MpmGrid.hpp"
 
 #include <algorithm>
@@ -96,17 +97,17 @@ public:
     // remap's correction takes out of L).
     velocity_.assign(N, Vec<Dim>::Zero());
     increment_.assign(N, Vec<Dim>::Zero());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (threaded(N))
     for (std::size_t I = 0; I < N; ++I)
       if (mass_[I] > 0.0) increment_[I] = momentum_[I] / mass_[I];
     if (rigid) prescribe(increment_);
     if (multi_) contact(increment_);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (threaded(N))
     for (std::size_t I = 0; I < N; ++I)
       if (mass_[I] > 0.0) velocity_[I] = increment_[I] + (dt / mass_[I]) * force_[I];
     if (rigid) prescribe(velocity_);
     if (multi_) contact(velocity_);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (threaded(N))
     for (std::size_t I = 0; I < N; ++I) {
       constrain(I, increment_[I]);
       constrain(I, velocity_[I]);
@@ -123,7 +124,7 @@ public:
     if (affine) start_.assign(P.x.begin(), P.x.begin() + static_cast<std::ptrdiff_t>(P.owned));
     const double flip = c_.flip;
     // G2P: each owned row gathers from its nodes (threads: core/Threads.hpp).
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (threaded(P.owned))
     for (std::size_t r = 0; r < P.owned; ++r) {
       if (rigid && P.rigid[r]) { // a fixed body moves at its own velocity
         P.x[r] += dt * P.v[r];
@@ -185,14 +186,14 @@ public:
         momentum_[node_[e]] += S_[e] * mv;
       }
     }
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (threaded(N))
     for (std::size_t I = 0; I < N; ++I)
       velocity_[I] = mass_[I] > 0.0 ? Vec<Dim>(momentum_[I] / mass_[I]) : Vec<Dim>::Zero();
     if (!rigid_.empty()) prescribe(velocity_);
     if (multi_) contact(velocity_);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (threaded(N))
     for (std::size_t I = 0; I < N; ++I) constrain(I, velocity_[I]);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (threaded(P.owned))
     for (std::size_t r = 0; r < P.owned; ++r) {
       Tensor<Dim> l = Tensor<Dim>::Zero();
       double vr = 0.0; // rz: the point's radial velocity, for the hoop rate v_r / r
@@ -234,7 +235,7 @@ private:
     if constexpr (kBlock) {
       // A block's K entries at r K: rows in parallel, the box's bounds (exact minima and maxima)
       // merged from each thread's.
-#pragma omp parallel
+#pragma omp parallel if (threaded(rows))
       {
         Key loT = lo, hiT = hi;
 #pragma omp for schedule(static) nowait

@@ -2,6 +2,7 @@
 // SPH's and ASPH's solver (solvers/SphSolver.hpp's makeSolver): the class, its density, kernel
 // correction and smoothing updates; its force loop is in SphRatesLoop.hpp. Private to
 // src/solvers (one translation unit instantiates it).
+#include "spall/core/Threads.hpp"
 #include "spall/solvers/SphSolver.hpp"
 
 #include "spall/core/SymmetricEigen.hpp"
@@ -70,7 +71,7 @@ public:
     if (normalise) rhoPrev_.assign(rho.begin(), rho.end());
     const double W0 = K::sigma() * K::f(0.0);
     const auto Hs = Aniso ? s_[f_.H] : std::span<Tensor<Dim>>{};
-#pragma omp parallel for schedule(dynamic, 64)
+#pragma omp parallel for schedule(dynamic, 64) if (threaded(n))
     for (std::size_t i = 0; i < n; ++i) {
       const double hinv = 1.0 / h[i];
       const double norm = Aniso ? Hs[i].determinant() : ipow<Dim>(hinv);
@@ -106,7 +107,7 @@ public:
     const auto B = s_[f_.B];
     const double sigma = K::sigma();
     if constexpr (Aniso) prepareAnisoRows();
-#pragma omp parallel for schedule(dynamic, 64)
+#pragma omp parallel for schedule(dynamic, 64) if (threaded(s_.localCount()))
     for (std::size_t i = 0; i < s_.localCount(); ++i) {
       const double hiInv = 1.0 / h[i], gradNormI = sigma * ipow<Dim>(hiInv) * hiInv;
       Tensor<Dim> M = Tensor<Dim>::Zero();
@@ -155,7 +156,7 @@ public:
     const auto sumWH = s_[f_.sumWH];
     const SmoothingLimits lim{cfg_.nodes_per_h, cfg_.h_min,       cfg_.h_max,
                               cfg_.h_min_ratio, cfg_.h_max_ratio, cfg_.max_aspect_ratio};
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (threaded(s_.localCount()))
     for (std::size_t i = 0; i < s_.localCount(); ++i) {
       const double factor = sizeFactor(psi_.nodesPerH(root<Dim>(sumWH[i])), cfg_.nodes_per_h);
       if constexpr (Aniso) {
@@ -176,7 +177,7 @@ public:
     // rows, then the threads' in a fixed order (the sequential loop's answer on any count).
     double dt = std::numeric_limits<double>::infinity();
     std::size_t which = 0;
-#pragma omp parallel
+#pragma omp parallel if (threaded(s_.localCount()))
     {
       double dtT = std::numeric_limits<double>::infinity();
       std::size_t whichT = 0;
@@ -233,7 +234,7 @@ private:
   void prepareAnisoRows() {
     const auto Hs = s_[f_.H];
     anisoRow_.resize(s_.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (threaded(s_.size()))
     for (std::size_t j = 0; j < s_.size(); ++j)
       anisoRow_[j] = {Hs[j].transpose() * Hs[j], K::sigma() * Hs[j].determinant()};
   }
@@ -255,7 +256,7 @@ private:
     const auto h = s_[f_.h];
     areaMass_.resize(s_.size());
     ringR_.resize(s_.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (threaded(s_.size()))
     for (std::size_t j = 0; j < s_.size(); ++j) {
       ringR_[j] = rz::radius(x[j][0], h[j]);
       areaMass_[j] = rz::areaMass(m[j], ringR_[j]);

@@ -41,7 +41,7 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl) {
   [[maybe_unused]] const double invWdp = 1.0 / K::f(1.0 / cfg_.nodes_per_h);
   if constexpr (Solid) {
     sOverRho_.resize(s_.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (threaded(s_.size()))
     for (std::size_t j = 0; j < s_.size(); ++j)
       sOverRho_[j] =
           Sdev[j].template topLeftCorner<Dim, Dim>() / (product ? rho[j] : rho[j] * rho[j]);
@@ -51,7 +51,7 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl) {
     if (reconstruct) {
       strainRate_.resize(s_.size());
       isochoric_.resize(s_.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (threaded(s_.size()))
       for (std::size_t j = 0; j < s_.size(); ++j) {
         const MatD Lj = Lgrad[j].template topLeftCorner<Dim, Dim>();
         strainRate_[j] = 0.5 * (Lj + Lj.transpose());
@@ -65,7 +65,7 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl) {
       artificialStress_.resize(s_.size());
       // Only solids: a fluid in a multi-material deck keeps the plain pressure term.
       const auto mat = s_[f_.material];
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (threaded(s_.size()))
       for (std::size_t j = 0; j < s_.size(); ++j)
         artificialStress_[j] =
             solid_[static_cast<std::size_t>(mat[j])]
@@ -93,7 +93,7 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl) {
   // (A multiplication by exactly 1 changes no bit: the rho^2 form without Balsara computes what
   // it computed when each was an instantiation of its own.)
   rowScratch_.resize(s_.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (threaded(s_.size()))
   for (std::size_t j = 0; j < s_.size(); ++j) {
     const double hjInv = 1.0 / h[j];
     rowScratch_[j] = {hjInv,
@@ -121,7 +121,7 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl) {
   // Rows in parallel (core/Threads.hpp): each writes only its own rates, from its neighbors'
   // inputs in its list's order; chunks of rows handed out as threads free up (rows differ in
   // neighbor count and in how many pairs approach).
-#pragma omp parallel for schedule(dynamic, 64)
+#pragma omp parallel for schedule(dynamic, 64) if (threaded(n))
   for (std::size_t i = 0; i < n; ++i) {
     const Vec<Dim> xi = x[i], vi = v[i];
     const double hi = h[i], hiInv = 1.0 / hi;

@@ -26,14 +26,17 @@ failures = []
 
 def run(deck, ranks, threads, out, sets):
     # More threads than cores here: threads that wait sleep instead of spinning at each barrier.
+    # SPALL_THREADED_ROWS=1: every loop in threads, however few its rows (these decks are small).
     env = dict(os.environ, OMP_NUM_THREADS=str(threads), OMP_WAIT_POLICY="passive",
+               SPALL_THREADED_ROWS="1",
                OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
                OMPI_MCA_rmaps_base_oversubscribe="1")
     cmd = [str(SPALL), "run", str(deck), "--output", str(out), "--overwrite", "--quiet"]
     if ranks > 1:
         # Unbound: a rank's threads must not all share the one core Open MPI would bind it to.
         cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "--bind-to", "none", "-x",
-               "OMP_NUM_THREADS", "-x", "OMP_WAIT_POLICY", "-np", str(ranks)] + cmd
+               "OMP_NUM_THREADS", "-x", "OMP_WAIT_POLICY", "-x", "SPALL_THREADED_ROWS",
+               "-np", str(ranks)] + cmd
     for s in sets:
         cmd += ["--set", s]
     p = subprocess.run(cmd, capture_output=True, text=True, env=env)

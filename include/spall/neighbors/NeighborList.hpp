@@ -239,7 +239,8 @@ bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
   // chunk keeps its rows and its pairs found from the other side, and the chunks are then joined
   // in order: the lists come out as one sequential pass makes them, on any thread count.
   const int threads = threadCount();
-  const std::size_t chunks = threads == 1 ? 1 : 32 * static_cast<std::size_t>(threads);
+  const std::size_t chunks =
+      threads == 1 || !threaded(n) ? 1 : 32 * static_cast<std::size_t>(threads);
   // A chunk's rows go into its region of the list, sized from the last build's rows in the same
   // places; what does not fit spills into a vector of its own (joined in place below).
   struct Chunk {
@@ -382,7 +383,7 @@ bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
     for (auto& part : parts) part.region = out.indices.data() + part.start;
     // (An exception must not leave a parallel region: a failed allocation is carried out.)
     std::exception_ptr failure;
-#pragma omp parallel for schedule(dynamic, 1)
+#pragma omp parallel for schedule(dynamic, 1) if (threaded(n))
     for (std::size_t c = 0; c < chunks; ++c) {
       try {
         search(chunkBegin(n, chunks, c), chunkBegin(n, chunks, c + 1), parts[c]);
@@ -414,7 +415,7 @@ bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
     for (std::size_t c = 0; c < chunks; ++c)
       if (base[c] <= parts[c].start) place(c);
     out.indices.resize(base[chunks]);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (threaded(n))
     for (std::size_t c = 0; c < chunks; ++c) {
       const std::size_t b = std::min(chunkBegin(n, chunks, c), owned);
       const std::size_t e = std::min(chunkBegin(n, chunks, c + 1), owned);

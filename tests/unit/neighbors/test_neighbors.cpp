@@ -162,6 +162,7 @@ template <int Dim> void compareThreadCounts(bool ellipsoids) {
   const auto builds = [&](int threads, const neighbors::CanonicalOrder<Dim>* o) {
     const int before = threadCount();
     setThreadCount(threads);
+    setThreadedRows(1); // these few thousand rows in threads too
     neighbors::CellGrid<Dim> grid;
     neighbors::NeighborList nl;
     std::vector<neighbors::NeighborList> lists;
@@ -176,6 +177,7 @@ template <int Dim> void compareThreadCounts(bool ellipsoids) {
       EXPECT_EQ(fresh.indices, nl.indices) << threads << " threads, step " << lists.size();
     }
     setThreadCount(before);
+    setThreadedRows(4096);
     return lists;
   };
   for (const auto* o : {&order, static_cast<const neighbors::CanonicalOrder<Dim>*>(nullptr)}) {
