@@ -37,12 +37,4 @@ void setThreadCount([[maybe_unused]] int threads) {
 #endif
 }
 
-int threadIndex() {
-#ifdef _OPENMP
-  return omp_get_thread_num();
-#else
-  return 0;
-#endif
-}
-
 } // namespace spall

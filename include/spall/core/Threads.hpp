@@ -12,8 +12,6 @@ void configureThreads();
 int threadCount();
 // Sets the count for the loops that follow (tests; a run takes it from OMP_NUM_THREADS).
 void setThreadCount(int threads);
-// This thread's number in a parallel region (0 outside one, or without OpenMP).
-int threadIndex();
 
 // Whether a loop over n rows runs in threads (`#pragma omp ... if (threaded(n))`): below ~4k rows
 // (SPALL_THREADED_ROWS, default 4096) a parallel region's start and barrier (microseconds; far
