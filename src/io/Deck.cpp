@@ -105,8 +105,10 @@ void DeckReader::read(Deck& deck) {
   const toml::table* run = top.subtable("run");
   if (!run) throw DeckError(start, "missing required table [run]");
   readRun(reader(*run, Context{}.child("run")), deck.run);
-  if (const auto* t = top.subtable("solver"))
-    dd::readSolver(reader(*t, Context{}.child("solver")), deck.solver);
+  // Without a [solver] table, its defaults as an empty one gives them (contact "auto").
+  static const toml::table noSolver;
+  const auto* solver = top.subtable("solver");
+  dd::readSolver(reader(solver ? *solver : noSolver, Context{}.child("solver")), deck.solver);
   deck.solver.geometry = deck.run.geometry;
   if (const auto* t = top.subtable("decomposition"))
     readDecomposition(reader(*t, Context{}.child("decomposition")), deck.decomposition);

@@ -19,7 +19,8 @@ SphMethod<Dim>::SphMethod(const parallel::MpiContext& mpi, MethodSetup setup,
                           parallel::Decomposition<Dim>& decomposition)
     : ParticleMethod<Dim>(mpi, sharedSetup(setup), std::move(materials), std::move(modules), store,
                           f, cost, decomposition),
-      setup_(std::move(setup)), boundaries_(setup_.boundaries, store, f) {
+      setup_(std::move(setup)), boundaries_(setup_.boundaries, store, f),
+      verlet_(setup_.solver.neighbor_skin) {
   std::vector<bool> solid, failedNoTension;
   for (const auto& m : materials_.materials()) {
     solid.push_back(m.solid());
@@ -48,14 +49,19 @@ template <int Dim> void SphMethod<Dim>::advance(double dt, std::int64_t step, do
     s_.swapValues(f_.a, f_.aOld);
     s_.swapValues(f_.dedt, f_.dedtOld);
     s_.swapValues(f_.drhodt, f_.drhodtOld);
-    boundaries_.wrapPeriodic(s_);
+    wrapped_ = boundaries_.wrapPeriodic(s_);
   });
-  stats_.phases.time(kExchange, [&] {
-    const auto m = decomposition_.migrate(s_, step);
-    stats_.migrated = m.moved;
-    stats_.migratedTotal += m.moved;
-    stats_.maxRankDistance = std::max(stats_.maxRankDistance, m.maxRankDistance);
-  });
+  stats_.phases.time(kNeighbors, [&] { rebuild_ = listsStale(); });
+  // Particles change ranks when the lists are built: until then each stays within its ghosts'
+  // reach of its domain (the skin's bound covers its travel).
+  stats_.migrated = 0;
+  if (rebuild_)
+    stats_.phases.time(kExchange, [&] {
+      const auto m = decomposition_.migrate(s_, step);
+      stats_.migrated = m.moved;
+      stats_.migratedTotal += m.moved;
+      stats_.maxRankDistance = std::max(stats_.maxRankDistance, m.maxRankDistance);
+    });
   rates(step, time + dt);
   stats_.phases.time(kIntegration, [&] {
     kick(dt);
@@ -71,21 +77,51 @@ template <int Dim> void SphMethod<Dim>::advance(double dt, std::int64_t step, do
 
 // One force evaluation: ghosts, neighbors, density, kernel correction, rates.
 template <int Dim> void SphMethod<Dim>::evaluate(std::int64_t step, double time) {
+  rebuild_ = true; // the first evaluation of a run (or a resumed one)
   rates(step, time);
   external_ = externalLoad(time);
 }
 
 template <int Dim> void SphMethod<Dim>::rates(std::int64_t step, double time) {
-  stats_.phases.time(kExchange, [&] { exchangeHalo(); });
-  stats_.phases.time(kBoundaries, [&] {
-    double hmax = 0.0;
-    for (double h : s_[f_.h]) hmax = std::max(hmax, h); // owned and remote ghosts
-    boundaries_.buildGhosts(s_, solver_->support() * mpi_.max(hmax));
-  });
+  if (rebuild_) {
+    stats_.phases.time(kExchange, [&] { exchangeHalo(); });
+    stats_.phases.time(kBoundaries, [&] {
+      double hmax = 0.0;
+      for (double h : s_[f_.h]) hmax = std::max(hmax, h); // owned and remote ghosts
+      boundaries_.buildGhosts(s_, verlet_.widened(solver_->support()) * mpi_.max(hmax));
+    });
+    stats_.phases.time(kNeighbors, [&] { buildLists(); });
+  } else {
+    // The same ghosts, their fields as they are now.
+    stats_.phases.time(kExchange, [&] { halo_.refresh(s_, haloFields_); });
+    stats_.phases.time(kBoundaries, [&] { boundaries_.refreshGhosts(s_, haloFields_); });
+  }
   stats_.phases.time(kNeighbors, [&] { findNeighbors(step); });
   if (solver_->usesSummationDensity()) densityPass();
   if (solver_->correctsKernel()) stats_.phases.time(kForces, [&] { kernelCorrection(); });
   stats_.phases.time(kForces, [&] { forces(time); });
+}
+
+// Whether the neighbor lists must be searched again, on every rank alike: the skin is used up
+// (VerletList.hpp), or some rank's rows changed (a migration, a rebalance, friends of friends'
+// ghosts), a particle was wrapped into a periodic box or folded, or crossed a wall.
+template <int Dim> bool SphMethod<Dim>::listsStale() {
+  if (verlet_.skin() <= 0.0) return true;
+  double forced = wrapped_ > 0 || s_.layout() != builtLayout_ ? 1.0 : 0.0;
+  std::array<double, 4> m{forced, 0.0, 0.0, 0.0};
+  if (forced == 0.0) {
+    const std::size_t n = s_.localCount();
+    const auto x = std::span<const Vec<Dim>>(s_[f_.x]).first(n);
+    if (boundaries_.crossedWall(verlet_.builtPositions(), x)) m[0] = 1.0;
+    const auto drift = verlet_.drift(x, s_[f_.h], anisotropicH(), solver_->support());
+    std::copy(drift.begin(), drift.end(), m.begin() + 1);
+  }
+  MPI_Allreduce(MPI_IN_PLACE, m.data(), 4, MPI_DOUBLE, MPI_MAX, mpi_.comm());
+  return m[0] > 0.0 || !verlet_.holds({m[1], m[2], m[3]});
+}
+
+template <int Dim> std::span<const Tensor<Dim>> SphMethod<Dim>::anisotropicH() const {
+  return f_.anisotropic() ? std::span<const Tensor<Dim>>(s_[f_.H]) : std::span<const Tensor<Dim>>{};
 }
 
 // t = 0: the modules' initial values (H = I/h, unstressed solids), then p and cs.
@@ -133,23 +169,24 @@ template <int Dim> void SphMethod<Dim>::kick(double dt) {
     for (std::size_t i = 0; i < n; ++i) rho[i] += half * (drhodt[i] - drhodtOld[i]);
 }
 
-// Remote and periodic ghosts within each owned particle's support: its sphere (SPH), or the
-// bounding box of |H x| < k, half-width k |row d of H^-1| along axis d, with the enclosing
-// sphere k h (ASPH).
+// Remote and periodic ghosts within each owned particle's support (widened by the skin): its
+// sphere (SPH), or the bounding box of |H x| < k, half-width k |row d of H^-1| along axis d, with
+// the enclosing sphere k h (ASPH).
 template <int Dim> void SphMethod<Dim>::exchangeHalo() {
   const std::size_t n = s_.localCount();
+  const double support = verlet_.widened(solver_->support());
   const auto h = s_[f_.h];
   reach_.resize(n);
   if (f_.anisotropic()) {
     const auto H = s_[f_.H];
     boxReach_.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
-      boxReach_[i] = solver_->support() * H[i].inverse().rowwise().norm();
-      reach_[i] = solver_->support() * h[i];
+      boxReach_[i] = support * H[i].inverse().rowwise().norm();
+      reach_[i] = support * h[i];
     }
     halo_.build(s_, f_.x, reach_, std::span<const Vec<Dim>>(boxReach_), haloFields_);
   } else {
-    for (std::size_t i = 0; i < n; ++i) reach_[i] = solver_->support() * h[i];
+    for (std::size_t i = 0; i < n; ++i) reach_[i] = support * h[i];
     halo_.build(s_, f_.x, reach_, haloFields_);
   }
   stats_.ghosts = halo_.ghosts();
@@ -159,24 +196,30 @@ template <int Dim> void SphMethod<Dim>::exchangeHalo() {
                                    : static_cast<double>(halo_.ghosts()) / static_cast<double>(n));
 }
 
-// ASPH searches each support's ellipsoid (its bounding box), SPH its sphere; the neighbor count
-// is the load-balancing cost.
+// The search: ASPH searches each support's ellipsoid (its bounding box), SPH its sphere; with a
+// skin, wider by it, into the wide list the steps filter.
+template <int Dim> void SphMethod<Dim>::buildLists() {
+  const std::size_t n = s_.localCount();
+  const auto H = anisotropicH();
+  const neighbors::CanonicalOrder<Dim> order{s_[f_.id], s_[f_.x]};
+  const auto* o = setup_.reproducible ? &order : nullptr;
+  const bool skin = verlet_.skin() > 0.0;
+  auto& list = skin ? verlet_.wide() : neighbors_;
+  const double support = verlet_.widened(solver_->support());
+  if (f_.anisotropic())
+    neighbors::buildNeighborList<Dim>(s_[f_.x], s_[f_.h], H, n, support, grid_, list, o);
+  else
+    neighbors::buildNeighborList<Dim>(s_[f_.x], s_[f_.h], n, support, grid_, list, o);
+  if (skin) verlet_.record(s_[f_.x], s_[f_.h], H, n);
+  builtLayout_ = s_.layout();
+  ++stats_.listBuilds;
+}
+
+// The step's lists (filtered from the wide one with a skin); the neighbor count is the
+// load-balancing cost.
 template <int Dim> void SphMethod<Dim>::findNeighbors(std::int64_t step) {
-  const auto H = f_.anisotropic() ? s_[f_.H] : std::span<Tensor<Dim>>{};
-  const auto build = [&](const neighbors::CanonicalOrder<Dim>* order) {
-    return f_.anisotropic()
-               ? neighbors::buildNeighborList<Dim>(s_[f_.x], s_[f_.h],
-                                                   std::span<const Tensor<Dim>>(H), s_.localCount(),
-                                                   solver_->support(), grid_, neighbors_, order)
-               : neighbors::buildNeighborList<Dim>(s_[f_.x], s_[f_.h], s_.localCount(),
-                                                   solver_->support(), grid_, neighbors_, order);
-  };
-  if (setup_.reproducible) {
-    const neighbors::CanonicalOrder<Dim> order{s_[f_.id], s_[f_.x], canonicalH()};
-    if (!build(&order)) stats_.canonicalLost = true;
-  } else {
-    build(nullptr);
-  }
+  if (verlet_.skin() > 0.0)
+    verlet_.filter(s_[f_.x], s_[f_.h], anisotropicH(), solver_->support(), neighbors_);
   const auto cost = s_[cost_];
   for (std::size_t i = 0; i < s_.localCount(); ++i)
     cost[i] = static_cast<std::int32_t>(1 + neighbors_.offsets[i + 1] - neighbors_.offsets[i]);
@@ -212,21 +255,6 @@ template <int Dim> void SphMethod<Dim>::forces(double time) {
   for (const auto& m : modules_) m->beforeRates(s_, f_, time);
   solver_->computeRates(neighbors_);
   for (const auto& m : modules_) m->afterRates(s_, f_, time);
-}
-
-// The geometric mean of the owned particles' h over all ranks, summed exactly (log2 h in fixed
-// point, integer allreduce): the same value on any rank count, which a canonical neighbor
-// order needs for its grid.
-template <int Dim> double SphMethod<Dim>::canonicalH() const {
-  std::int64_t sum[2] = {0, 0};
-  for (double h : s_[f_.h].first(s_.localCount())) {
-    if (!(h > 0.0) || !std::isfinite(h)) continue;
-    sum[0] += std::llround(std::log2(h) * 1048576.0);
-    ++sum[1];
-  }
-  MPI_Allreduce(MPI_IN_PLACE, sum, 2, MPI_INT64_T, MPI_SUM, mpi_.comm());
-  if (sum[1] == 0) return 1.0;
-  return std::exp2(static_cast<double>(sum[0]) / 1048576.0 / static_cast<double>(sum[1]));
 }
 
 template class SphMethod<1>;

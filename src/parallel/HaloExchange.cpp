@@ -193,22 +193,20 @@ void HaloExchange<Dim>::buildWith(ParticleStore& s, Field<Vec<Dim>> xf,
     for (std::uint8_t v : c) codes.push_back(static_cast<std::byte>(v));
   const ExchangeResult in = exchangeBytes(comm_, codes, countTo);
   received_ = in.data.size();
+  shifts_.resize(received_);
+  for (std::size_t k = 0; k < received_; ++k) shifts_[k] = static_cast<std::uint8_t>(in.data[k]);
+  position_ = xf.index;
   first_ = s.appendGhosts(received_);
   refresh(s, fields);
-
-  bool sentPosition = false;
-  for (std::size_t f : fields) sentPosition = sentPosition || f == xf.index;
-  if (!sentPosition) return;
-  auto xs = s[xf];
-  for (std::size_t k = 0; k < received_; ++k) {
-    const auto code = static_cast<std::uint8_t>(in.data[k]);
-    if (code) xs[first_ + k] += shiftOf(code);
-  }
 }
 
 template <int Dim>
 void HaloExchange<Dim>::refresh(ParticleStore& s, std::span<const std::size_t> fields) {
   receiveRows(s, fields, sendRows(comm_, s, fields, rows_), first_);
+  if (std::find(fields.begin(), fields.end(), position_) == fields.end()) return;
+  auto xs = s[Field<Vec<Dim>>{position_}];
+  for (std::size_t k = 0; k < received_; ++k)
+    if (shifts_[k]) xs[first_ + k] += shiftOf(shifts_[k]);
 }
 
 template class HaloExchange<1>;

@@ -32,9 +32,10 @@ Boundaries<Dim>::Boundaries(const std::vector<BoundaryConfig>& config, const Par
   }
 }
 
-template <int Dim> void Boundaries<Dim>::wrapPeriodic(ParticleStore& s) const {
+template <int Dim> std::size_t Boundaries<Dim>::wrapPeriodic(ParticleStore& s) const {
   const auto x = s[x_];
   const auto v = s[v_];
+  std::size_t moved = 0;
   for (const auto& w : walls_) {
     if (!w.fold) continue;
     for (std::size_t i = 0; i < s.localCount(); ++i) {
@@ -42,15 +43,30 @@ template <int Dim> void Boundaries<Dim>::wrapPeriodic(ParticleStore& s) const {
       if (d >= 0.0) continue;
       x[i] -= 2.0 * d * w.normal;
       v[i] -= 2.0 * v[i].dot(w.normal) * w.normal;
+      ++moved;
     }
   }
   for (const auto& pb : periodic_) {
     const double L = pb.max - pb.min;
     for (std::size_t i = 0; i < s.localCount(); ++i) {
       double& xi = x[i][pb.axis];
-      if (xi < pb.min || xi >= pb.max) xi -= L * std::floor((xi - pb.min) / L);
+      if (xi < pb.min || xi >= pb.max) {
+        xi -= L * std::floor((xi - pb.min) / L);
+        ++moved;
+      }
     }
   }
+  return moved;
+}
+
+template <int Dim>
+bool Boundaries<Dim>::crossedWall(std::span<const Vec<Dim>> from,
+                                  std::span<const Vec<Dim>> to) const {
+  for (const auto& w : walls_)
+    for (std::size_t i = 0; i < from.size(); ++i)
+      if (((from[i] - w.point).dot(w.normal) < 0.0) != ((to[i] - w.point).dot(w.normal) < 0.0))
+        return true;
+  return false;
 }
 
 template <int Dim>
@@ -104,6 +120,17 @@ void Boundaries<Dim>::refreshGhosts(ParticleStore& s, std::span<const std::size_
   for (const std::size_t c : columns) {
     const bool vector = among(vectors_, c), tensor = among(tensors_, c),
                tensor3 = among(tensors3_, c);
+    if (c == x_.index) {
+      // As buildGhosts placed it: across the plane from the source.
+      const auto x = s[x_];
+      for (std::size_t k = 0; k < source_.size(); ++k) {
+        const Wall& w = walls_[wallOf_[k]];
+        const double d = (x[source_[k]] - w.point).dot(w.normal);
+        x[first_ + k] = x[source_[k]];
+        x[first_ + k] -= 2.0 * d * w.normal;
+      }
+      continue;
+    }
     for (std::size_t k = 0; k < source_.size(); ++k) {
       s.copyRow(c, source_[k], first_ + k);
       if (vector) reflectVector(s, Field<Vec<Dim>>{c}, k);

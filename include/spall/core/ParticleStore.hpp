@@ -163,6 +163,9 @@ public:
   std::size_t size() const { return size_; }
   std::size_t localCount() const { return local_; }
   std::size_t ghostCount() const { return size_ - local_; }
+  // Changes whenever rows are added, dropped or reordered: what was built on the rows (a ghost
+  // layer, neighbor lists that index them) is stale when it differs from the value then.
+  std::uint64_t layout() const { return layout_; }
 
   // Sets the number of owned particles; drops all ghosts.
   void resizeLocal(std::size_t n) {
@@ -284,11 +287,13 @@ public:
 
 private:
   void resizeAll(std::size_t n) {
+    ++layout_;
     size_ = n;
     if (n > capacity_) capacity_ = n;
     for (auto& c : columns_) c->resize(capacity_);
   }
   void growTo(std::size_t n) {
+    ++layout_;
     if (n > capacity_) {
       // Modest growth: ghost counts settle within a few steps, and every column pays the slack.
       capacity_ = std::max<std::size_t>(n, capacity_ + capacity_ / 8 + 16);
@@ -301,6 +306,7 @@ private:
   std::size_t size_ = 0;     // owned + ghosts
   std::size_t local_ = 0;    // owned
   std::size_t capacity_ = 0; // allocated rows in every column
+  std::uint64_t layout_ = 0;
 };
 
 } // namespace spall

@@ -1,9 +1,9 @@
 #pragma once
 // SPH and ASPH as one step list (SphMethod::advance reads top to bottom): kick-drift, material
-// update, migration, halo, wall images, neighbors, density, kernel correction, module hooks,
-// forces, module hooks, kick, EOS refresh, smoothing update, external work, checks, rebalance.
-// The physics is in solvers/ and materials/, the parallel machinery in parallel/; this file only
-// orders them.
+// update, whether the lists hold, migration, halo, wall images, neighbors, density, kernel
+// correction, module hooks, forces, module hooks, kick, EOS refresh, smoothing update, external
+// work, checks, rebalance. The physics is in solvers/ and materials/, the parallel machinery in
+// parallel/; this file only orders them.
 #include "spall/core/Error.hpp"
 #include "spall/core/ParticleFields.hpp"
 #include "spall/materials/MaterialUpdate.hpp"
@@ -12,6 +12,7 @@
 #include "spall/methods/Module.hpp"
 #include "spall/methods/ParticleMethod.hpp"
 #include "spall/neighbors/NeighborList.hpp"
+#include "spall/neighbors/VerletList.hpp"
 #include "spall/parallel/Decomposition.hpp"
 #include "spall/parallel/HaloExchange.hpp"
 #include "spall/parallel/Mpi.hpp"
@@ -51,12 +52,14 @@ private:
   void exchangeHalo() override;
   void kickDrift(double dt);
   void kick(double dt);
+  bool listsStale();
+  void buildLists();
   void findNeighbors(std::int64_t step);
+  std::span<const Tensor<Dim>> anisotropicH() const;
   void densityPass();
   void kernelCorrection();
   void rates(std::int64_t step, double time); // evaluate() without the external power
   void forces(double time);
-  double canonicalH() const;
 
   MethodSetup setup_;
   std::unique_ptr<solvers::Solver<Dim>> solver_;
@@ -64,7 +67,11 @@ private:
   // Derived from the field flags: what ghosts receive when made, and again after the density
   // pass; the kernel correction, sent on its own.
   std::vector<std::size_t> haloFields_, refreshFields_, correctionFields_;
-  neighbors::NeighborList neighbors_;
+  neighbors::NeighborList neighbors_; // the step's
+  neighbors::VerletList<Dim> verlet_; // the wide list and when to search again
+  std::uint64_t builtLayout_ = 0;     // the store's rows when the lists were searched
+  bool rebuild_ = true;
+  std::size_t wrapped_ = 0; // particles wrapped or folded by the last step
   std::vector<double> reach_;
   std::vector<Vec<Dim>> boxReach_; // ASPH: the supports' bounding boxes
 };

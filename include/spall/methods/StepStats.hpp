@@ -43,13 +43,13 @@ struct StepStats {
   Phases phases;
   std::size_t pairs = 0;       // neighbor pairs summed over evaluations (owned rows)
   std::size_t evaluations = 0; // force evaluations
+  std::size_t listBuilds = 0;  // neighbor searches (the rest filtered the wide list)
   std::size_t ghosts = 0;      // remote and periodic ghosts of the last evaluation
   std::uint64_t migrated = 0, migratedTotal = 0; // owned particles that changed rank
   std::uint64_t crossPairs = 0; // pairs whose partner is a remote or periodic ghost (sampled)
   int maxRankDistance = 0, rebalances = 0;
   double imbalance = 1.0, ghostFractionMax = 0.0;
   std::int64_t metisEdgeCut = -1;
-  bool canonicalLost = false; // a coarsened grid broke the rank-count-independent sum order
 };
 
 } // namespace spall::methods

@@ -28,14 +28,13 @@ struct NeighborList {
   }
 };
 
-// A rank-count-independent order of particles (ids, then positions to tell a particle's periodic
-// and mirror images apart) and a cell size computed from global quantities only. With it, the
-// neighbor rows come out in the same order on any decomposition, so the neighbor sums are added
-// in the same order and a run is bit-for-bit identical on any number of ranks.
+// A rank-count-independent order of particles: ids, then positions to tell a particle's periodic
+// and mirror images apart. Every row is sorted by it, so the neighbor sums are added in the same
+// order on any decomposition (a run is bit-for-bit identical on any number of ranks), and a row
+// is the same sequence whichever wider list it was filtered from (neighbors/VerletList.hpp).
 template <int Dim> struct CanonicalOrder {
   std::span<const ParticleId> id;
   std::span<const Vec<Dim>> x;
-  double hRef = 0.0; // the same on every rank (e.g. an exactly summed global mean)
   bool less(std::uint32_t a, std::uint32_t b) const {
     if (id[a] != id[b]) return id[a] < id[b];
     for (int d = 0; d < Dim; ++d)
@@ -46,14 +45,12 @@ template <int Dim> struct CanonicalOrder {
 
 template <int Dim> class CellGrid {
 public:
-  // Bins all `x` (owned and ghosts) into cells of `cellSize` aligned to the origin (so a cell is
-  // the same cell on every rank). The grid is coarsened when the particles' extent would need
-  // more than ~2 cells per particle (a far-flung particle must not cost memory); returns false
-  // then. With `order`, the members of each cell are kept in its order. The members' positions
-  // (and `radius`, if given) are copied in member order, so that a search streams through
-  // contiguous memory instead of gathering every candidate from the store.
-  bool build(std::span<const Vec<Dim>> x, double cellSize,
-             const CanonicalOrder<Dim>* order = nullptr, std::span<const double> radius = {}) {
+  // Bins all `x` (owned and ghosts) into cells of `cellSize` aligned to the origin. The grid is
+  // coarsened when the particles' extent would need more than ~2 cells per particle (a far-flung
+  // particle must not cost memory). The members' positions (and `radius`, if given) are copied
+  // in member order, so that a search streams through contiguous memory instead of gathering
+  // every candidate from the store.
+  void build(std::span<const Vec<Dim>> x, double cellSize, std::span<const double> radius = {}) {
     Vec<Dim> lo = Vec<Dim>::Constant(std::numeric_limits<double>::max());
     Vec<Dim> hi = Vec<Dim>::Constant(std::numeric_limits<double>::lowest());
     for (const auto& p : x) {
@@ -62,13 +59,7 @@ public:
     }
     if (x.empty()) lo.setZero(), hi.setZero();
     double size = cellSize;
-    bool kept = true;
-    // A canonical grid must not be coarsened (the row order would then depend on the rank), so
-    // it may take more memory: up to ~1M cells beyond 8 per particle (4 MB). Past that a rank
-    // coarsens, sorts its rows, and bit-for-bit equality with other rank counts is lost (the
-    // results still agree to round-off).
-    const double maxCells = order ? 8.0 * static_cast<double>(x.size()) + 1048576.0
-                                  : 2.0 * static_cast<double>(x.size()) + 64.0;
+    const double maxCells = 2.0 * static_cast<double>(x.size()) + 64.0;
     for (;;) {
       double total = 1.0;
       for (int d = 0; d < Dim; ++d) {
@@ -79,7 +70,6 @@ public:
       }
       if (total <= maxCells) break;
       size *= std::pow(total / maxCells, 1.0 / Dim) * 1.01;
-      kept = false;
     }
     size_ = size;
     inv_ = 1.0 / size;
@@ -96,18 +86,10 @@ public:
     std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
     for (std::size_t i = 0; i < x.size(); ++i)
       members_[fill[cellOf_[i]]++] = static_cast<std::uint32_t>(i);
-    if (order) {
-      for (std::size_t c = 0; c + 1 < start_.size(); ++c) {
-        if (start_[c + 1] - start_[c] < 2) continue;
-        std::sort(members_.begin() + start_[c], members_.begin() + start_[c + 1],
-                  [&](std::uint32_t a, std::uint32_t b) { return order->less(a, b); });
-      }
-    }
     xs_.resize(x.size());
     for (std::size_t m = 0; m < x.size(); ++m) xs_[m] = x[members_[m]];
     rs_.resize(radius.size());
     for (std::size_t m = 0; m < radius.size(); ++m) rs_[m] = radius[members_[m]];
-    return kept;
   }
 
   double cellSize() const { return size_; }
@@ -178,32 +160,30 @@ private:
 
 // Builds the neighbor lists of the first `owned` particles of x (the rest are ghosts): every j
 // with r_ij < support * max(h_i, h_j) (spheres; the ellipsoidal variant below). Each particle
-// gathers within its own support; a pair that
-// only the larger support reaches is found from that side and added to the other's list.
-// Without `order` the grid is sized by the local median h, so that a few particles with a large
-// h (free surfaces, a blast's hot core) do not coarsen the search for all. With `order` the grid
-// is sized by order->hRef and every row comes out in a rank-count-independent order (cells in a
-// fixed order, members sorted within cells, pairs from the other side sorted); returns false if
-// that could not be kept (a coarsened grid): the rows are then still deterministic for this rank
-// count, but another rank count may add them in another order.
+// gathers within its own support; a pair that only the larger support reaches is found from that
+// side and added to the other's list. The grid is sized by the local median h, so that a few
+// particles with a large h (free surfaces, a blast's hot core) do not coarsen the search for
+// all. With `order` every row is sorted by it (rank-count-independent sums); without, a row
+// holds its own gathers in cell order, then the pairs found from the other side.
+template <int Dim> void sortRows(NeighborList& nl, const CanonicalOrder<Dim>& order, std::size_t n);
+
 namespace detail {
 template <int Dim, bool Ellipsoidal>
-bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
+void buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
                        std::span<const Tensor<Dim>> H, std::size_t owned, double support,
                        CellGrid<Dim>& grid, NeighborList& out, const CanonicalOrder<Dim>* order) {
   const std::size_t n = x.size();
-  double hRef = order ? order->hRef : 0.0;
-  if (!order && n > 0) {
+  double hRef = 1.0;
+  if (n > 0) {
     std::vector<double> hs(h.begin(), h.begin() + static_cast<std::ptrdiff_t>(n));
     std::nth_element(hs.begin(), hs.begin() + static_cast<std::ptrdiff_t>(hs.size() / 2), hs.end());
-    hRef = hs[hs.size() / 2];
+    if (hs[hs.size() / 2] > 0.0) hRef = hs[hs.size() / 2];
   }
-  if (!(hRef > 0.0)) hRef = 1.0;
   std::vector<double> radius(n);
   for (std::size_t a = 0; a < n; ++a) radius[a] = support * h[a];
   // Cells of half the typical support: a (5 cells)^Dim block covers it with fewer candidates
   // than (3 cells of a full support)^Dim.
-  const bool kept = grid.build(x, 0.5 * support * hRef, order, radius);
+  grid.build(x, 0.5 * support * hRef, radius);
   const double cell = grid.cellSize();
   const auto members = grid.members();
   const auto xs = grid.sortedX();
@@ -425,10 +405,12 @@ bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
     for (std::size_t c = 0; c < chunks; ++c)
       extra.insert(extra.end(), parts[c].extra.begin(), parts[c].extra.end());
   }
-  if (extra.empty()) return kept || !order;
+  if (extra.empty()) {
+    if (order) sortRows<Dim>(out, *order, n);
+    return;
+  }
   // Group the pairs found from the other side by their owned particle with a counting sort (they
-  // were found in increasing j, so each group is already sorted by j); a canonical order sorts
-  // each small group by it.
+  // were found in increasing j, so each group is already sorted by j).
   std::vector<std::uint32_t> groupStart(owned + 1, 0);
   for (const auto& [i, j] : extra) ++groupStart[i + 1];
   for (std::size_t i = 0; i < owned; ++i) groupStart[i + 1] += groupStart[i];
@@ -436,12 +418,6 @@ bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
   {
     std::vector<std::uint32_t> fill(groupStart.begin(), groupStart.end() - 1);
     for (const auto& [i, j] : extra) grouped[fill[i]++] = j;
-  }
-  if (order) {
-    for (std::size_t i = 0; i < owned; ++i)
-      if (groupStart[i + 1] - groupStart[i] > 1)
-        std::sort(grouped.begin() + groupStart[i], grouped.begin() + groupStart[i + 1],
-                  [&](std::uint32_t p, std::uint32_t q) { return order->less(p, q); });
   }
   // Merge them into the rows in place: grow the index array once, then move rows back to front
   // to their final place, each row's own gathers first, then its group.
@@ -455,13 +431,13 @@ bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
       out.indices[--write] = grouped[k];
     for (std::uint64_t k = end; k-- > begin;) out.indices[--write] = out.indices[k];
   }
-  return kept || !order;
+  if (order) sortRows<Dim>(out, *order, n);
 }
 
 // Compiled once, in src/neighbors/NeighborList.cpp: its code (what the compiler inlines into the
 // search) does not depend on the file that calls it.
 #define SPALL_NEIGHBOR_SEARCH(PREFIX, D, E)                                                        \
-  PREFIX template bool buildNeighborList<D, E>(                                                    \
+  PREFIX template void buildNeighborList<D, E>(                                                    \
       std::span<const Vec<D>>, std::span<const double>, std::span<const Tensor<D>>, std::size_t,   \
       double, CellGrid<D>&, NeighborList&, const CanonicalOrder<D>*);
 #define SPALL_NEIGHBOR_SEARCHES(PREFIX)                                                            \
@@ -476,22 +452,78 @@ SPALL_NEIGHBOR_SEARCHES(extern)
 } // namespace detail
 
 template <int Dim>
-bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h, std::size_t owned,
+void buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h, std::size_t owned,
                        double support, CellGrid<Dim>& grid, NeighborList& out,
                        const CanonicalOrder<Dim>* order = nullptr) {
-  return detail::buildNeighborList<Dim, false>(x, h, {}, owned, support, grid, out, order);
+  detail::buildNeighborList<Dim, false>(x, h, {}, owned, support, grid, out, order);
 }
 
 // Ellipsoidal supports (ASPH): particle a reaches the points y with |H_a (y - x_a)| < support, and
 // a pair is kept when either reaches the other. h is each particle's longest axis (1/smallest
-// eigenvalue of H): it sizes the grid (and the canonical order), while each search covers only
-// the support's bounding box.
+// eigenvalue of H): it sizes the grid, while each search covers only the support's bounding box.
 template <int Dim>
-bool buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
+void buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
                        std::span<const Tensor<Dim>> H, std::size_t owned, double support,
                        CellGrid<Dim>& grid, NeighborList& out,
                        const CanonicalOrder<Dim>* order = nullptr) {
-  return detail::buildNeighborList<Dim, true>(x, h, H, owned, support, grid, out, order);
+  detail::buildNeighborList<Dim, true>(x, h, H, owned, support, grid, out, order);
+}
+
+// Sorts [b, e) ascending with `tmp` (as long) as scratch: short runs by insertion, longer ones
+// by least-significant-digit radix passes of 8 bits over the span max - min (a row's places
+// span a few layers of its neighborhood: two passes, without the mispredicted branches that make
+// comparison sorts of such rows slow).
+inline void sortRow(std::uint32_t* b, std::uint32_t* e, std::uint32_t* tmp) {
+  const std::size_t n = static_cast<std::size_t>(e - b);
+  if (n < 24) {
+    for (std::uint32_t* p = b + 1; p < e; ++p) {
+      const std::uint32_t v = *p;
+      std::uint32_t* q = p;
+      for (; q > b && q[-1] > v; --q) q[0] = q[-1];
+      *q = v;
+    }
+    return;
+  }
+  std::uint32_t lo = *b, hi = *b;
+  for (const std::uint32_t* p = b; p < e; ++p) lo = std::min(lo, *p), hi = std::max(hi, *p);
+  std::uint32_t* from = b;
+  std::uint32_t* to = tmp;
+  for (unsigned shift = 0; shift < 32 && ((hi - lo) >> shift) != 0; shift += 8) {
+    std::uint32_t count[257] = {};
+    for (const std::uint32_t* p = from; p < from + n; ++p) ++count[((*p - lo) >> shift & 255) + 1];
+    for (int d = 0; d < 256; ++d) count[d + 1] += count[d];
+    for (const std::uint32_t* p = from; p < from + n; ++p)
+      to[count[(*p - lo) >> shift & 255]++] = *p;
+    std::swap(from, to);
+  }
+  if (from != b) std::copy_n(from, n, b);
+}
+
+// Sorts every row of `nl` by `order` (over the n particles the rows index): each particle's
+// place in the order once (one sort of all), then each row by those places, rows in parallel.
+template <int Dim>
+void sortRows(NeighborList& nl, const CanonicalOrder<Dim>& order, std::size_t n) {
+  std::vector<std::uint32_t> byOrder(n), place(n);
+  for (std::size_t a = 0; a < n; ++a) byOrder[a] = static_cast<std::uint32_t>(a);
+  std::sort(byOrder.begin(), byOrder.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return order.less(a, b); });
+  for (std::size_t k = 0; k < n; ++k) place[byOrder[k]] = static_cast<std::uint32_t>(k);
+  const std::size_t rows = nl.offsets.size() - 1;
+  std::uint32_t* list = nl.indices.data();
+#pragma omp parallel if (threaded(rows))
+  {
+    std::vector<std::uint32_t> tmp;
+#pragma omp for schedule(dynamic, 256)
+    for (std::size_t i = 0; i < rows; ++i) {
+      std::uint32_t* b = list + nl.offsets[i];
+      std::uint32_t* e = list + nl.offsets[i + 1];
+      if (tmp.size() < static_cast<std::size_t>(e - b))
+        tmp.resize(2 * static_cast<std::size_t>(e - b));
+      for (std::uint32_t* p = b; p != e; ++p) *p = place[*p];
+      sortRow(b, e, tmp.data());
+      for (std::uint32_t* p = b; p != e; ++p) *p = byOrder[*p];
+    }
+  }
 }
 
 } // namespace spall::neighbors

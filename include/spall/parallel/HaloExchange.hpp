@@ -43,7 +43,8 @@ public:
   // either support's sphere and box both cover the other particle.
   void build(ParticleStore& s, Field<Vec<Dim>> x, std::span<const double> radius,
              std::span<const Vec<Dim>> halfWidth, std::span<const std::size_t> fields);
-  // Re-sends the listed fields along the last build's plan (e.g. density after the summation).
+  // Re-sends the listed fields along the last build's plan (e.g. density after the summation;
+  // positions get their periodic shift again).
   void refresh(ParticleStore& s, std::span<const std::size_t> fields);
 
   std::size_t ghosts() const { return received_; }
@@ -70,6 +71,8 @@ private:
   std::vector<std::vector<std::uint32_t>> rows_; // owned rows to send, per rank
   std::vector<std::vector<std::uint8_t>> codes_; // periodic shift code of each, per rank
   std::size_t first_ = 0, received_ = 0;
+  std::size_t position_ = 0;           // the position field's column
+  std::vector<std::uint8_t> shifts_;   // each ghost's periodic shift code
   bool round_ = true;                  // spheres only, or spheres and bounding boxes
   std::vector<Vec<Dim>> reachScratch_; // the owned particles' half-widths, per axis
 };

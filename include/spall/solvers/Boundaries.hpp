@@ -22,13 +22,17 @@ public:
              const ParticleFields<Dim>& f);
 
   // Maps owned particles that left a periodic box back into it, and folds those behind a
-  // folding wall back across it (position and velocity mirrored).
-  void wrapPeriodic(ParticleStore& s) const;
+  // folding wall back across it (position and velocity mirrored); how many it moved.
+  std::size_t wrapPeriodic(ParticleStore& s) const;
+  // Whether a particle is on another side of a wall at `to` than at `from` (its image, made or
+  // not by buildGhosts, would be another).
+  bool crossedWall(std::span<const Vec<Dim>> from, std::span<const Vec<Dim>> to) const;
   // Appends the mirror image of every particle (owned or ghost) within `reach` of a wall.
   void buildGhosts(ParticleStore& s, double reach);
   std::vector<parallel::PeriodicAxis> periodicAxes() const;
-  // Copies the listed columns of each image from its source again (reflected where flagged),
-  // after they changed on the source (the density pass, the kernel correction).
+  // Copies the listed columns of each image from its source again (reflected where flagged; the
+  // position mirrored across the plane), after they changed on the source (a step's positions,
+  // the density pass, the kernel correction).
   void refreshGhosts(ParticleStore& s, std::span<const std::size_t> columns) const;
 
 private:

@@ -107,7 +107,7 @@ struct SolverConfig {
   ArtificialViscosityConfig artificial_viscosity;
   ArtificialStressConfig artificial_stress;
   VelocityGradient velocity_gradient = VelocityGradient::Sph;
-  Contact contact = Contact::Welded; // the deck's default is Auto (io/DeckSolver)
+  Contact contact = Contact::Welded; // a deck's default is Auto (io/DeckSolver)
   // Limits on the smoothing scale: absolute bounds [h_min, h_max] in m (0 / inf: none), and
   // bounds relative to the particle's own volume, h_min_ratio <= h / (n_h (m/rho)^(1/dim)) <=
   // h_max_ratio. The upper one stops h from growing without end at free surfaces, where the
@@ -120,6 +120,10 @@ struct SolverConfig {
   double h_max_ratio = 2.0;
   // ASPH: the longest axis of the smoothing ellipsoid is at most this many times the shortest.
   double max_aspect_ratio = 10.0;
+  // Neighbor lists kept across steps: searched with supports this fraction wider, searched again
+  // when the particles' travel or their supports' growth has used it up (neighbors/VerletList).
+  // The results are the same for any value; 0 searches every step.
+  double neighbor_skin = 0.1;
   Geometry geometry = Geometry::Cartesian; // from run.geometry
   MpmConfig mpm;                           // solver.method = "mpm"
   std::vector<std::string> sphOnlyKeys;    // given with "mpm", where they do nothing

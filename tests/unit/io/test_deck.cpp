@@ -949,6 +949,10 @@ TEST_F(DeckTest, SolidSolverOptions) {
   EXPECT_FALSE(plain.solver.artificial_stress.enabled);
   EXPECT_EQ(plain.solver.contact, spall::Contact::Auto);
   EXPECT_EQ(plain.solver.stress_form, spall::StressForm::RhoProduct);
+  // A deck without a [solver] table has the same defaults (it once had welded contact).
+  const Deck bare = load(withLines(kDeck1D, 6, 9, ""));
+  EXPECT_EQ(bare.solver.contact, spall::Contact::Auto);
+  EXPECT_EQ(bare.solver.neighbor_skin, 0.1);
   const Deck solid =
       load(withLine(kDeck1D, 14,
                     R"(eos = { type = "mie_gruneisen", c0 = 3940.0, s = 1.49, gamma0 = 2.02 }

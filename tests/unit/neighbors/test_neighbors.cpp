@@ -123,7 +123,7 @@ template <int Dim> void compareThreadCounts(bool ellipsoids) {
     if (ellipsoids) h[i] = axes.maxCoeff();
     id[i] = static_cast<ParticleId>((i * 7919) % n); // rows not in id order
   }
-  const neighbors::CanonicalOrder<Dim> order{id, x, 0.05};
+  const neighbors::CanonicalOrder<Dim> order{id, x};
   // Builds into one list, as a run's steps: the first (no estimate of the chunks' shares yet) on
   // one thread; then into regions sized by the last build; supports 30% wider (the chunks
   // overflow their regions, spill and move up); only the lower half's supports wider again
@@ -150,8 +150,7 @@ template <int Dim> void compareThreadCounts(bool ellipsoids) {
       const double s = x[i][0] < 0.5 ? st.lowerScale : st.scale;
       hs[i] *= s, Hs[i] /= s;
     }
-    const neighbors::CanonicalOrder<Dim> part{std::span<const ParticleId>(id).first(st.count), xs,
-                                              0.05};
+    const neighbors::CanonicalOrder<Dim> part{std::span<const ParticleId>(id).first(st.count), xs};
     const auto* po = o ? &part : nullptr;
     if (ellipsoids)
       neighbors::buildNeighborList<Dim>(xs, hs, std::span<const Tensor<Dim>>(Hs), st.ownedRows, 2.0,
