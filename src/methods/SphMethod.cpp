@@ -39,6 +39,7 @@ SphMethod<Dim>::SphMethod(const parallel::MpiContext& mpi, MethodSetup setup,
 // advanced the same way. The second half-kick is first taken with the old rates (the state the
 // forces see) and corrected by dt/2 (new - old) once the new rates are known.
 template <int Dim> void SphMethod<Dim>::advance(double dt, std::int64_t step, double time) {
+  std::size_t wrapped = 0; // particles wrapped or folded by this step
   stats_.phases.time(kIntegration, [&] {
     kickDrift(dt);
     // S_{n+1} from S_n and the last velocity gradient (explicit, like the drift), then p and cs
@@ -49,9 +50,9 @@ template <int Dim> void SphMethod<Dim>::advance(double dt, std::int64_t step, do
     s_.swapValues(f_.a, f_.aOld);
     s_.swapValues(f_.dedt, f_.dedtOld);
     s_.swapValues(f_.drhodt, f_.drhodtOld);
-    wrapped_ = boundaries_.wrapPeriodic(s_);
+    wrapped = boundaries_.wrapPeriodic(s_);
   });
-  stats_.phases.time(kNeighbors, [&] { rebuild_ = listsStale(); });
+  stats_.phases.time(kNeighbors, [&] { rebuild_ = listsStale(wrapped > 0); });
   // Particles change ranks when the lists are built: until then each stays within its ghosts'
   // reach of its domain (the skin's bound covers its travel).
   stats_.migrated = 0;
@@ -71,8 +72,10 @@ template <int Dim> void SphMethod<Dim>::advance(double dt, std::int64_t step, do
   bookExternal(dt, externalLoad(time + dt));
   checkFinite(step + 1, time + dt);
   if (mpi_.size() > 1)
-    stats_.phases.time(kExchange,
-                       [&] { balance(step + 1, neighbors_.offsets, neighbors_.indices); });
+    stats_.phases.time(kExchange, [&] {
+      const auto& nl = lists();
+      balance(step + 1, nl.offsets, nl.indices, nl.counts);
+    });
 }
 
 // One force evaluation: ghosts, neighbors, density, kernel correction, rates.
@@ -105,9 +108,9 @@ template <int Dim> void SphMethod<Dim>::rates(std::int64_t step, double time) {
 // Whether the neighbor lists must be searched again, on every rank alike: the skin is used up
 // (VerletList.hpp), or some rank's rows changed (a migration, a rebalance, friends of friends'
 // ghosts), a particle was wrapped into a periodic box or folded, or crossed a wall.
-template <int Dim> bool SphMethod<Dim>::listsStale() {
+template <int Dim> bool SphMethod<Dim>::listsStale(bool wrapped) {
   if (verlet_.skin() <= 0.0) return true;
-  double forced = wrapped_ > 0 || s_.layout() != builtLayout_ ? 1.0 : 0.0;
+  double forced = wrapped || s_.layout() != builtLayout_ ? 1.0 : 0.0;
   std::array<double, 4> m{forced, 0.0, 0.0, 0.0};
   if (forced == 0.0) {
     const std::size_t n = s_.localCount();
@@ -201,9 +204,11 @@ template <int Dim> void SphMethod<Dim>::exchangeHalo() {
 template <int Dim> void SphMethod<Dim>::buildLists() {
   const std::size_t n = s_.localCount();
   const auto H = anisotropicH();
-  const neighbors::CanonicalOrder<Dim> order{s_[f_.id], s_[f_.x]};
-  const auto* o = setup_.reproducible ? &order : nullptr;
   const bool skin = verlet_.skin() > 0.0;
+  // (With a skin, the places of the order stay: the filter keeps rows in it.)
+  const neighbors::CanonicalOrder<Dim> order{s_[f_.id], s_[f_.x],
+                                             skin ? &verlet_.places() : nullptr};
+  const auto* o = setup_.reproducible ? &order : nullptr;
   auto& list = skin ? verlet_.wide() : neighbors_;
   const double support = verlet_.widened(solver_->support());
   if (f_.anisotropic())
@@ -218,19 +223,20 @@ template <int Dim> void SphMethod<Dim>::buildLists() {
 // The step's lists (filtered from the wide one with a skin); the neighbor count is the
 // load-balancing cost.
 template <int Dim> void SphMethod<Dim>::findNeighbors(std::int64_t step) {
-  if (verlet_.skin() > 0.0)
-    verlet_.filter(s_[f_.x], s_[f_.h], anisotropicH(), solver_->support(), neighbors_);
+  if (verlet_.skin() > 0.0) verlet_.filter(s_[f_.x], s_[f_.h], anisotropicH(), solver_->support());
+  const auto& nl = lists();
   const auto cost = s_[cost_];
   for (std::size_t i = 0; i < s_.localCount(); ++i)
-    cost[i] = static_cast<std::int32_t>(1 + neighbors_.offsets[i + 1] - neighbors_.offsets[i]);
-  stats_.pairs += neighbors_.pairs();
+    cost[i] = static_cast<std::int32_t>(1 + nl.of(i).size());
+  stats_.pairs += nl.pairs();
   ++stats_.evaluations;
   if (mpi_.size() > 1 && step % 10 == 0) {
     // Interacting pairs whose partner lives on another rank (or is a periodic image): the
     // communication a partition causes, comparable between the SFC and METIS partitioners.
     const std::size_t lo = s_.localCount(), hi = lo + halo_.ghosts();
     std::uint64_t cut = 0;
-    for (std::uint32_t j : neighbors_.indices) cut += j >= lo && j < hi;
+    for (std::size_t i = 0; i < lo; ++i)
+      for (std::uint32_t j : nl.of(i)) cut += j >= lo && j < hi;
     stats_.crossPairs = cut;
   }
 }
@@ -238,7 +244,7 @@ template <int Dim> void SphMethod<Dim>::findNeighbors(std::int64_t step) {
 // Summation density, then p and cs of the new density; the ghosts receive all three again.
 template <int Dim> void SphMethod<Dim>::densityPass() {
   stats_.phases.time(kDensity, [&] {
-    solver_->computeDensity(neighbors_);
+    solver_->computeDensity(lists());
     materials_.evaluate(materialFields());
   });
   stats_.phases.time(kExchange, [&] { halo_.refresh(s_, refreshFields_); });
@@ -246,14 +252,14 @@ template <int Dim> void SphMethod<Dim>::densityPass() {
 }
 
 template <int Dim> void SphMethod<Dim>::kernelCorrection() {
-  solver_->computeKernelCorrection(neighbors_);
+  solver_->computeKernelCorrection(lists());
   halo_.refresh(s_, correctionFields_);
   boundaries_.refreshGhosts(s_, correctionFields_);
 }
 
 template <int Dim> void SphMethod<Dim>::forces(double time) {
   for (const auto& m : modules_) m->beforeRates(s_, f_, time);
-  solver_->computeRates(neighbors_);
+  solver_->computeRates(lists());
   for (const auto& m : modules_) m->afterRates(s_, f_, time);
 }
 

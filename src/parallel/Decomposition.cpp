@@ -160,7 +160,8 @@ bool Decomposition<Dim>::rebalanceDue(std::int64_t step, double imbalance) const
 template <int Dim>
 RebalanceReport Decomposition<Dim>::rebalance(ParticleStore& s,
                                               std::span<const std::uint64_t> offsets,
-                                              std::span<const std::uint32_t> pairs) {
+                                              std::span<const std::uint32_t> pairs,
+                                              std::span<const std::uint32_t> counts) {
   RebalanceReport report;
   report.imbalanceBefore = imbalance(s);
   std::vector<std::uint64_t> cellOfRow;
@@ -198,7 +199,8 @@ RebalanceReport Decomposition<Dim>::rebalance(ParticleStore& s,
     std::unordered_map<std::uint64_t, std::uint64_t> edges;
     for (std::size_t i = 0; i + 1 < offsets.size() && i < n; ++i) {
       const std::uint64_t ci = cellOfRow[i];
-      for (std::uint64_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+      const std::uint64_t end = counts.empty() ? offsets[i + 1] : offsets[i] + counts[i];
+      for (std::uint64_t k = offsets[i]; k < end; ++k) {
         const std::uint64_t cj = cellOfRow[pairs[k]];
         if (cj != ci) ++edges[(std::min(ci, cj) << 32) | std::max(ci, cj)];
       }

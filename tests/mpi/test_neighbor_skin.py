@@ -19,18 +19,15 @@ import tempfile
 import time
 from pathlib import Path
 
-import h5py
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verification"))
+from spalltest import Checks, final_state  # noqa: E402
 
 SPALL, SRC = Path(sys.argv[1]), Path(sys.argv[2])
 ONLY = sys.argv[3] if len(sys.argv) > 3 else ""
-failures = []
-
-
-def check(cond, message):
-    print(("ok   " if cond else "FAIL ") + message)
-    if not cond:
-        failures.append(message)
+checks = Checks()
+check, failures = checks.check, checks.failures
 
 
 def run(deck, ranks, skin, out, sets):
@@ -47,14 +44,6 @@ def run(deck, ranks, skin, out, sets):
                         f"{p.stderr[-2000:]}")
         return None
     return json.loads((out / "summary.json").read_text())
-
-
-def final_state(out):
-    snap = sorted((out / "snapshots").glob("snap_*.h5"))[-1]
-    with h5py.File(snap, "r") as f:
-        g = f["particles"]
-        order = np.argsort(g["id"][()])
-        return {k: g[k][()][order] for k in g}, f.attrs["time"]
 
 
 # The history but the wall clock and what the searches decide (ghosts, migrations, imbalance:
@@ -126,9 +115,4 @@ with tempfile.TemporaryDirectory() as tmp:
                         "imbalance, wall clock)")
         print(f"     ({time.time() - started:.1f} s)")
 
-if failures:
-    print(f"\n{len(failures)} failure(s):")
-    for f in failures:
-        print(" -", f)
-    sys.exit(1)
-print("all neighbor-skin checks passed")
+checks.finish()

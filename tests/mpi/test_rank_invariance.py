@@ -14,13 +14,16 @@ import sys
 import tempfile
 from pathlib import Path
 
-import h5py
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verification"))
+from spalltest import Checks, final_state  # noqa: E402
 
 SPALL, SRC = Path(sys.argv[1]), Path(sys.argv[2])
 ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
            OMPI_MCA_rmaps_base_oversubscribe="1")
-failures = []
+checks = Checks()
+check, failures = checks.check, checks.failures
 
 
 def run(deck, ranks, out, *sets):
@@ -33,20 +36,6 @@ def run(deck, ranks, out, *sets):
         failures.append(f"{deck.name} on {ranks} ranks: exit {p.returncode}\n{p.stderr[-2000:]}")
         return None
     return json.loads((out / "summary.json").read_text())
-
-
-def final_state(out):
-    snap = sorted((out / "snapshots").glob("snap_*.h5"))[-1]
-    with h5py.File(snap, "r") as f:
-        g = f["particles"]
-        order = np.argsort(g["id"][()])
-        return {k: g[k][()][order] for k in g}, f.attrs["time"]
-
-
-def check(cond, message):
-    print(("ok   " if cond else "FAIL ") + message)
-    if not cond:
-        failures.append(message)
 
 
 # Shortened where the full run is long: the point is the rank count, not the physics.
@@ -192,9 +181,4 @@ with tempfile.TemporaryDirectory() as tmp:
         b, _ = final_state(tmp / "tiny4")
         check(all(np.array_equal(a[k], b[k]) for k in a), "tiny deck: 4 ranks bit-for-bit as 1 rank")
 
-if failures:
-    print(f"\n{len(failures)} failure(s):")
-    for f in failures:
-        print(" -", f)
-    sys.exit(1)
-print("all rank-count checks passed")
+checks.finish()

@@ -17,11 +17,14 @@ import tempfile
 import time
 from pathlib import Path
 
-import h5py
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verification"))
+from spalltest import Checks, final_state  # noqa: E402
+
 SPALL, SRC = Path(sys.argv[1]), Path(sys.argv[2])
-failures = []
+checks = Checks()
+check, failures = checks.check, checks.failures
 
 
 def run(deck, ranks, threads, out, sets):
@@ -47,20 +50,6 @@ def run(deck, ranks, threads, out, sets):
     ran = json.loads((out / "summary.json").read_text())["threads_per_rank"]
     check(ran == threads, f"{deck.name}: {ranks} x {threads} ran {ran} thread(s) per rank")
     return ran == threads
-
-
-def final_state(out):
-    snap = sorted((out / "snapshots").glob("snap_*.h5"))[-1]
-    with h5py.File(snap, "r") as f:
-        g = f["particles"]
-        order = np.argsort(g["id"][()])
-        return {k: g[k][()][order] for k in g}, f.attrs["time"]
-
-
-def check(cond, message):
-    print(("ok   " if cond else "FAIL ") + message)
-    if not cond:
-        failures.append(message)
 
 
 CASES = [("sod_1d.toml", []),
@@ -113,9 +102,4 @@ with tempfile.TemporaryDirectory() as tmp:
                 check(same, f"{label}: 1 rank x {threads} threads, history.csv identical (but the wall clock)")
         print(f"     ({time.time() - started:.1f} s)")
 
-if failures:
-    print(f"\n{len(failures)} failure(s):")
-    for f in failures:
-        print(" -", f)
-    sys.exit(1)
-print("all thread-count checks passed")
+checks.finish()

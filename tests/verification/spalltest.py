@@ -50,8 +50,11 @@ class Checks:
         return True
 
     def finish(self):
+        """Exits 1, listing the failed checks again (a long log buries them), when any failed."""
         if self.failures:
-            print(f"{len(self.failures)} failed")
+            print(f"\n{len(self.failures)} failed:")
+            for f in self.failures:
+                print(" -", f)
             sys.exit(1)
         print("all passed")
 
@@ -65,6 +68,15 @@ def snapshot(out, time):
                 order = np.argsort(g["id"][:])
                 return {k: g[k][:][order] for k in g.keys()}
     return None
+
+
+def final_state(out):
+    """The particles of OUT's last snapshot, every field, sorted by id; and its time."""
+    snap = sorted((out / "snapshots").glob("snap_*.h5"))[-1]
+    with h5py.File(snap, "r") as f:
+        g = f["particles"]
+        order = np.argsort(g["id"][()])
+        return {k: g[k][()][order] for k in g}, f.attrs["time"]
 
 
 def rows(path):

@@ -71,9 +71,9 @@ protected:
   materials::MaterialFields materialFields();
   void checkFinite(std::int64_t step, double time) const;
   // Measures the imbalance of the cost and re-cuts the key axis when due; the pairs (CSR, the
-  // owned rows') are the graph a METIS partition cuts.
+  // owned rows', each its first counts[i] entries when given) are the graph METIS cuts.
   void balance(std::int64_t step, std::span<const std::uint64_t> offsets,
-               std::span<const std::uint32_t> indices);
+               std::span<const std::uint32_t> indices, std::span<const std::uint32_t> counts = {});
 
   const parallel::MpiContext& mpi_;
   ParticleMethodSetup common_;

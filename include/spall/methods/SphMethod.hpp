@@ -52,7 +52,7 @@ private:
   void exchangeHalo() override;
   void kickDrift(double dt);
   void kick(double dt);
-  bool listsStale();
+  bool listsStale(bool wrapped); // wrapped: this step wrapped or folded some particle
   void buildLists();
   void findNeighbors(std::int64_t step);
   std::span<const Tensor<Dim>> anisotropicH() const;
@@ -67,11 +67,14 @@ private:
   // Derived from the field flags: what ghosts receive when made, and again after the density
   // pass; the kernel correction, sent on its own.
   std::vector<std::size_t> haloFields_, refreshFields_, correctionFields_;
-  neighbors::NeighborList neighbors_; // the step's
-  neighbors::VerletList<Dim> verlet_; // the wide list and when to search again
-  std::uint64_t builtLayout_ = 0;     // the store's rows when the lists were searched
+  neighbors::NeighborList neighbors_; // the step's, without a skin
+  neighbors::VerletList<Dim> verlet_; // the wide list (the step's rows in it) and when to search
+  // The step's lists: a search's (skin 0) or the wide list's rows filtered for the step.
+  const neighbors::NeighborList& lists() const {
+    return verlet_.skin() > 0.0 ? verlet_.wide() : neighbors_;
+  }
+  std::uint64_t builtLayout_ = 0; // the store's rows when the lists were searched
   bool rebuild_ = true;
-  std::size_t wrapped_ = 0; // particles wrapped or folded by the last step
   std::vector<double> reach_;
   std::vector<Vec<Dim>> boxReach_; // ASPH: the supports' bounding boxes
 };

@@ -22,9 +22,14 @@ namespace spall::neighbors {
 struct NeighborList {
   std::vector<std::uint64_t> offsets; // owned count + 1
   std::vector<std::uint32_t> indices; // neighbors of i: indices[offsets[i] .. offsets[i+1])
-  std::size_t pairs() const { return indices.size(); }
+  // A kept list's rows (VerletList.hpp) hold more than the step's pairs: row i is then the
+  // first counts[i] entries of its span, and keptPairs their total. Empty for a search's rows.
+  std::vector<std::uint32_t> counts;
+  std::uint64_t keptPairs = 0;
+  std::size_t pairs() const { return counts.empty() ? indices.size() : keptPairs; }
   std::span<const std::uint32_t> of(std::size_t i) const {
-    return {indices.data() + offsets[i], indices.data() + offsets[i + 1]};
+    const std::uint32_t* row = indices.data() + offsets[i];
+    return {row, counts.empty() ? indices.data() + offsets[i + 1] : row + counts[i]};
   }
 };
 
@@ -35,6 +40,7 @@ struct NeighborList {
 template <int Dim> struct CanonicalOrder {
   std::span<const ParticleId> id;
   std::span<const Vec<Dim>> x;
+  std::vector<std::uint32_t>* places = nullptr; // if set, receives each particle's place
   bool less(std::uint32_t a, std::uint32_t b) const {
     if (id[a] != id[b]) return id[a] < id[b];
     for (int d = 0; d < Dim; ++d)
@@ -214,6 +220,7 @@ void buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
   // The last build's rows estimate each chunk's share below.
   std::vector<std::uint64_t> previous;
   previous.swap(out.offsets);
+  out.counts.clear(); // whole rows, as searched
   out.offsets.assign(owned + 1, 0);
   // The particles are searched in chunks of consecutive a, in parallel (core/Threads.hpp); each
   // chunk keeps its rows and its pairs found from the other side, and the chunks are then joined
@@ -524,6 +531,7 @@ void sortRows(NeighborList& nl, const CanonicalOrder<Dim>& order, std::size_t n)
       for (std::uint32_t* p = b; p != e; ++p) *p = byOrder[*p];
     }
   }
+  if (order.places) order.places->swap(place);
 }
 
 } // namespace spall::neighbors

@@ -1,10 +1,11 @@
 #pragma once
 // Neighbor lists that live across steps (Verlet 1967, with a skin): a wide list, searched with
 // supports 1 + skin times the step's, holds every pair the supports can reach until the
-// particles have moved, or their supports grown, by more than the skin allows. Each step keeps,
-// in list order, the pairs its own supports reach, with the search's own tests: with rows in the
-// canonical order (sortRows) that is the list a search of that step would give, entry for entry,
-// so a run's results do not depend on when the wide list was built (the skin, restarts, ranks).
+// particles have moved, or their supports grown, by more than the skin allows. Each step moves,
+// in place, the pairs its own supports reach to the front of their row, with the search's own
+// tests: with rows in the canonical order (sortRows) that is the row a search of that step would
+// give, entry for entry, so a run's results do not depend on when the wide list was built (the
+// skin, restarts, ranks). The step's list is the wide list's fronts: no second list is held.
 //
 // When to build it again. A pair (a, b) is in the step's list when a support covers the other,
 // say |H_a d| < k (k the support radius in units of H, d = x_b - x_a; spheres: H = I / h). With
@@ -24,6 +25,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <exception>
 #include <limits>
 #include <span>
 #include <vector>
@@ -38,6 +40,7 @@ public:
   // The support the wide list is searched with.
   double widened(double support) const { return support * (1.0 + skin_); }
   NeighborList& wide() { return wide_; }
+  const NeighborList& wide() const { return wide_; }
   std::span<const Vec<Dim>> builtPositions() const { return x0_; }
 
   // Remembers the owned particles' positions and supports when the wide list is built. H: the
@@ -45,6 +48,7 @@ public:
   void record(std::span<const Vec<Dim>> x, std::span<const double> h,
               std::span<const Tensor<Dim>> H, std::size_t owned) {
     x0_.assign(x.begin(), x.begin() + static_cast<std::ptrdiff_t>(owned));
+    wide_.counts.assign(owned, 0); // every pair outside the step's rows until the next filter
     if (H.empty()) {
       h0_.assign(h.begin(), h.begin() + static_cast<std::ptrdiff_t>(owned));
       H0_.clear();
@@ -90,13 +94,17 @@ public:
     return m[0] + m[1] * m[2] < skin_ * (1.0 - 1e-6);
   }
 
-  // The pairs of the wide list that supports `support` reach, in its order: the search's tests
-  // with the search's expressions (NeighborList.hpp), so that they decide every pair as a search
-  // would. Rows in parallel chunks, each written at its place in the wide list, then joined.
+  // The step's list, in place: each row of the wide list is split into the pairs that supports
+  // `support` reach (first, the step's row: wide().of(i)) and the others (after), both in the
+  // canonical order. The tests are the search's, with its expressions (NeighborList.hpp), so
+  // that they decide every pair as a search would, and the step's row is the one a search of
+  // that step gives. A row is rewritten only where a pair came into reach or left it (fewer rows
+  // a step, all of them after a search); no second list is held.
   void filter(std::span<const Vec<Dim>> x, std::span<const double> h,
-              std::span<const Tensor<Dim>> H, double support, NeighborList& out) {
+              std::span<const Tensor<Dim>> H, double support) {
     const std::size_t owned = wide_.offsets.size() - 1, n = x.size();
     radius_.resize(n);
+#pragma omp parallel for schedule(static) if (threaded(n))
     for (std::size_t a = 0; a < n; ++a) radius_[a] = support * h[a];
     const bool ellipsoidal = !H.empty();
     const double support2 = support * support;
@@ -116,58 +124,87 @@ public:
       if (!(r2 < radius_[p] * radius_[p] * (1.0 + 1e-9))) return false;
       return r2 < inner2_[p] || d.dot(G_[p] * d) < support2;
     };
-    out.offsets.resize(owned + 1);
-    out.offsets[0] = 0;
-    out.indices.resize(wide_.indices.size());
-    const std::size_t chunks =
-        threadCount() == 1 || !threaded(owned) ? 1 : 32 * static_cast<std::size_t>(threadCount());
-    used_.assign(chunks, 0);
-    std::uint32_t* list = out.indices.data();
-#pragma omp parallel for schedule(dynamic, 1) if (threaded(owned))
-    for (std::size_t c = 0; c < chunks; ++c) {
-      const std::size_t b = chunkBegin(owned, chunks, c), e = chunkBegin(owned, chunks, c + 1);
-      std::uint64_t write = wide_.offsets[b];
-      for (std::size_t i = b; i < e; ++i) {
+    if (wide_.counts.size() != owned) wide_.counts.assign(owned, 0); // (not recorded)
+    std::uint32_t* list = wide_.indices.data();
+    std::uint64_t kept = 0, longest = 0;
+    for (std::size_t i = 0; i < owned; ++i)
+      longest = std::max(longest, wide_.offsets[i + 1] - wide_.offsets[i]);
+    // (An exception must not leave a parallel region: a failed allocation is carried out.)
+    std::exception_ptr failure;
+#pragma omp parallel if (threaded(owned))
+    {
+      // This thread's scratch: pairs that left reach, came into it, the others, a merged row.
+      std::vector<std::uint32_t> out, in, others, merged;
+      try {
+        for (auto* v : {&out, &in, &others, &merged}) v->resize(longest);
+      } catch (...) {
+#pragma omp critical(spall_filter_failure)
+        if (!failure) failure = std::current_exception();
+      }
+      const bool ready = merged.size() == longest;
+#pragma omp for schedule(dynamic, 256) reduction(+ : kept)
+      for (std::size_t i = 0; i < owned; ++i) {
+        if (!ready) continue;
+        std::uint32_t* row = list + wide_.offsets[i];
+        const std::size_t length = wide_.offsets[i + 1] - wide_.offsets[i];
+        const std::size_t before = wide_.counts[i];
         const Vec<Dim> xi = x[i];
         const double ri2 = radius_[i] * radius_[i];
-        for (std::uint64_t k = wide_.offsets[i]; k < wide_.offsets[i + 1]; ++k) {
-          const std::uint32_t j = wide_.indices[k];
+        const auto reached = [&](std::uint32_t j) {
           const Vec<Dim> d = xi - x[j];
           const double r2 = d.squaredNorm();
-          bool keep;
-          if (ellipsoidal)
-            keep = gathers(i, d, r2) || gathers(j, Vec<Dim>(-d), r2);
-          else
-            keep = r2 < ri2 || r2 < radius_[j] * radius_[j];
-          list[write] = j;
-          write += keep;
+          if (ellipsoidal) return gathers(i, d, r2) || gathers(j, Vec<Dim>(-d), r2);
+          return r2 < ri2 || r2 < radius_[j] * radius_[j];
+        };
+        // Without branches on the outcome (after a search a quarter of a row's pairs are out of
+        // reach, at random places). The step's row keeps, in order, its pairs still in reach.
+        std::size_t stay = 0, left = 0, came = 0;
+        for (std::size_t k = 0; k < before; ++k) {
+          const std::uint32_t j = row[k];
+          const bool keep = reached(j);
+          row[stay] = j, out[left] = j;
+          stay += keep, left += !keep;
         }
-        out.offsets[i + 1] = write;
+        std::size_t rest = 0;
+        for (std::size_t k = before; k < length; ++k) {
+          const std::uint32_t j = row[k];
+          const bool keep = reached(j);
+          in[came] = j, others[rest] = j;
+          came += keep, rest += !keep;
+        }
+        if (left == 0 && came == 0) {
+          kept += before;
+          continue;
+        }
+        // Both parts of the row again, each in the canonical order: the pairs that stayed and
+        // those that came, merged by place; then the others and those that left.
+        std::size_t m = merge(row, row + stay, in.data(), in.data() + came, merged.data());
+        const std::size_t now = m;
+        m += merge(others.data(), others.data() + rest, out.data(), out.data() + left,
+                   merged.data() + m);
+        std::copy_n(merged.data(), m, row);
+        wide_.counts[i] = static_cast<std::uint32_t>(now);
+        kept += now;
       }
-      used_[c] = write - wide_.offsets[b];
     }
-    // Chunk c's rows move down to right after chunk c - 1's (never past their own start).
-    std::uint64_t base = 0;
-    shift_.resize(chunks);
-    for (std::size_t c = 0; c < chunks; ++c) {
-      const std::uint64_t start = wide_.offsets[chunkBegin(owned, chunks, c)];
-      if (base != start) std::memmove(list + base, list + start, used_[c] * sizeof(std::uint32_t));
-      shift_[c] = start - base;
-      base += used_[c];
-    }
-#pragma omp parallel for schedule(static) if (threaded(owned))
-    for (std::size_t c = 0; c < chunks; ++c)
-      for (std::size_t i = chunkBegin(owned, chunks, c); i < chunkBegin(owned, chunks, c + 1); ++i)
-        out.offsets[i + 1] -= shift_[c];
-    out.indices.resize(base);
+    if (failure) std::rethrow_exception(failure);
+    wide_.keptPairs = kept;
   }
 
-  // Bytes held per owned particle beyond the step's list: the wide list and the positions and
-  // supports of its build.
+  // The list's row places from the search (the canonical order of its particles), when rows are
+  // kept in that order; empty otherwise (then pairs coming into reach are appended).
+  std::vector<std::uint32_t>& places() {
+    return places_;
+  }
+
+  // Bytes held: the wide list (the step's rows among them), the places of its order, and the
+  // positions and supports of its build.
   std::size_t bytes() const {
     return wide_.indices.capacity() * sizeof(std::uint32_t) +
            wide_.offsets.capacity() * sizeof(std::uint64_t) + x0_.capacity() * sizeof(Vec<Dim>) +
-           h0_.capacity() * sizeof(double) + H0_.capacity() * sizeof(Tensor<Dim>);
+           wide_.counts.capacity() * sizeof(std::uint32_t) +
+           places_.capacity() * sizeof(std::uint32_t) + h0_.capacity() * sizeof(double) +
+           H0_.capacity() * sizeof(Tensor<Dim>);
   }
 
 private:
@@ -176,10 +213,29 @@ private:
   std::vector<Vec<Dim>> x0_;
   std::vector<double> h0_;
   std::vector<Tensor<Dim>> H0_;
-  // The filter's scratch: supports, ellipsoid metrics and inscribed spheres, chunk bookkeeping.
+  // [a, ae) and [b, be) merged into `to` by place (the canonical order), or one after the other
+  // without places; returns the count. b is short (the few pairs that came into reach or left
+  // it; all of them when a is empty, after a search): each finds its place in a by bisection.
+  std::size_t merge(const std::uint32_t* a, const std::uint32_t* ae, const std::uint32_t* b,
+                    const std::uint32_t* be, std::uint32_t* to) const {
+    std::uint32_t* const start = to;
+    if (!places_.empty())
+      for (; b != be && a != ae; ++b) {
+        const std::uint32_t place = places_[*b];
+        const std::uint32_t* at =
+            std::partition_point(a, ae, [&](std::uint32_t v) { return places_[v] < place; });
+        to = std::copy(a, at, to);
+        a = at;
+        *to++ = *b;
+      }
+    to = std::copy(a, ae, to);
+    to = std::copy(b, be, to);
+    return static_cast<std::size_t>(to - start);
+  }
+  // The filter's scratch: supports, ellipsoid metrics and inscribed spheres.
   std::vector<double> radius_, inner2_;
   std::vector<Tensor<Dim>> G_;
-  std::vector<std::uint64_t> used_, shift_;
+  std::vector<std::uint32_t> places_;
 };
 
 } // namespace spall::neighbors

@@ -64,9 +64,11 @@ public:
   double imbalance(const ParticleStore& s) const;
   bool rebalanceDue(std::int64_t step, double imbalance) const;
   // New key box, new cuts by cost, migration. `pairs` (CSR over owned rows, indices into the
-  // store, ghosts included) feeds the METIS cell graph; it may be empty for SFC.
+  // store, ghosts included; row i the first counts[i] entries of its span when `counts` is
+  // given) feeds the METIS cell graph; it may be empty for SFC.
   RebalanceReport rebalance(ParticleStore& s, std::span<const std::uint64_t> offsets,
-                            std::span<const std::uint32_t> pairs);
+                            std::span<const std::uint32_t> pairs,
+                            std::span<const std::uint32_t> counts = {});
 
 private:
   void newKeyBox(const ParticleStore& s);

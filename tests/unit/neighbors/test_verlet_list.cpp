@@ -51,15 +51,30 @@ template <int Dim> Cloud<Dim> makeCloud(std::size_t n, bool ellipsoids, std::mt1
   return c;
 }
 
+// A search with rows in the canonical order (its places into `places` if given), or in the
+// search's own order (`ordered` false).
 template <int Dim>
-void search(const Cloud<Dim>& c, std::size_t owned, double support, neighbors::NeighborList& out) {
+void search(const Cloud<Dim>& c, std::size_t owned, double support, neighbors::NeighborList& out,
+            std::vector<std::uint32_t>* places = nullptr, bool ordered = true) {
   neighbors::CellGrid<Dim> grid;
-  const neighbors::CanonicalOrder<Dim> order{c.id, c.x};
+  const neighbors::CanonicalOrder<Dim> order{c.id, c.x, places};
+  const auto* o = ordered ? &order : nullptr;
   if (c.H.empty())
-    neighbors::buildNeighborList<Dim>(c.x, c.h, owned, support, grid, out, &order);
+    neighbors::buildNeighborList<Dim>(c.x, c.h, owned, support, grid, out, o);
   else
     neighbors::buildNeighborList<Dim>(c.x, c.h, std::span<const Tensor<Dim>>(c.H), owned, support,
-                                      grid, out, &order);
+                                      grid, out, o);
+}
+
+// The rows of a list as the loops see them (of(i)), sorted when `sorted`.
+std::vector<std::vector<std::uint32_t>> rowsOf(const neighbors::NeighborList& nl, std::size_t owned,
+                                               bool sorted = false) {
+  std::vector<std::vector<std::uint32_t>> rows(owned);
+  for (std::size_t i = 0; i < owned; ++i) {
+    rows[i].assign(nl.of(i).begin(), nl.of(i).end());
+    if (sorted) std::sort(rows[i].begin(), rows[i].end());
+  }
+  return rows;
 }
 
 template <int Dim> std::span<const Tensor<Dim>> metrics(const Cloud<Dim>& c) {
@@ -94,7 +109,7 @@ template <int Dim> void keptListsMatchFreshSearches(bool ellipsoids) {
   std::mt19937_64 rng(5);
   Cloud<Dim> c = makeCloud<Dim>(n, ellipsoids, rng);
   neighbors::VerletList<Dim> verlet(skin);
-  search(c, owned, verlet.widened(support), verlet.wide());
+  search(c, owned, verlet.widened(support), verlet.wide(), &verlet.places());
   verlet.record(c.x, c.h, metrics(c), owned);
   const Cloud<Dim> built = c;
   int held = 0;
@@ -106,12 +121,13 @@ template <int Dim> void keptListsMatchFreshSearches(bool ellipsoids) {
     // the maxima over all ranks do in a run.)
     if (!verlet.holds(m)) break;
     ++held;
-    neighbors::NeighborList kept, fresh;
-    verlet.filter(c.x, c.h, metrics(c), support, kept);
+    // (Filtered in place step after step: rows where pairs came or left are rewritten.)
+    neighbors::NeighborList fresh;
+    verlet.filter(c.x, c.h, metrics(c), support);
     search(c, owned, support, fresh);
     ASSERT_GT(fresh.pairs(), 10 * owned);
-    EXPECT_EQ(kept.offsets, fresh.offsets) << "step " << step;
-    EXPECT_EQ(kept.indices, fresh.indices) << "step " << step;
+    EXPECT_EQ(verlet.wide().pairs(), fresh.pairs()) << "step " << step;
+    EXPECT_TRUE(rowsOf(verlet.wide(), owned) == rowsOf(fresh, owned)) << "step " << step;
   }
   // Small moves: the wide list held for several steps (else nothing above was tested).
   EXPECT_GE(held, 4);
@@ -151,14 +167,39 @@ TEST(VerletList, PairsAreMissedPastTheSkin) {
   std::mt19937_64 rng(9);
   Cloud<3> c = makeCloud<3>(n, false, rng);
   neighbors::VerletList<3> verlet(skin);
-  search(c, owned, verlet.widened(support), verlet.wide());
+  search(c, owned, verlet.widened(support), verlet.wide(), &verlet.places());
   verlet.record(c.x, c.h, {}, owned);
   perturb(c, support, 0.2, 0.0, rng);
   EXPECT_FALSE(verlet.holds(verlet.drift(c.x, c.h, {}, support)));
-  neighbors::NeighborList kept, fresh;
-  verlet.filter(c.x, c.h, {}, support, kept);
+  neighbors::NeighborList fresh;
+  verlet.filter(c.x, c.h, {}, support);
   search(c, owned, support, fresh);
-  EXPECT_LT(kept.pairs(), fresh.pairs());
+  EXPECT_LT(verlet.wide().pairs(), fresh.pairs());
+}
+
+// Rows in the search's own order (no canonical order asked for): the step's rows hold the pairs
+// a fresh search finds, in some order, after pairs came into reach and left it.
+TEST(VerletList, UnorderedKeptListsHoldFreshSearchesPairs) {
+  const std::size_t n = 2500, owned = 2000;
+  const double support = 2.0, skin = 0.15;
+  std::mt19937_64 rng(17);
+  Cloud<3> c = makeCloud<3>(n, false, rng);
+  neighbors::VerletList<3> verlet(skin);
+  search(c, owned, verlet.widened(support), verlet.wide(), nullptr, false);
+  verlet.record(c.x, c.h, {}, owned);
+  int held = 0;
+  for (int step = 0; step < 12; ++step) {
+    perturb(c, support, 0.004, 0.004, rng);
+    if (!verlet.holds(verlet.drift(std::span<const Vec<3>>(c.x).first(owned), c.h, {}, support)))
+      break;
+    ++held;
+    neighbors::NeighborList fresh;
+    verlet.filter(c.x, c.h, {}, support);
+    search(c, owned, support, fresh, nullptr, false);
+    EXPECT_TRUE(rowsOf(verlet.wide(), owned, true) == rowsOf(fresh, owned, true))
+        << "step " << step;
+  }
+  EXPECT_GE(held, 4);
 }
 
 // Rows are sorted by radix passes over their span (insertion below 24 entries): against
