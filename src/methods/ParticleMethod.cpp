@@ -1,6 +1,7 @@
 #include "spall/methods/ParticleMethod.hpp"
 
 #include "spall/core/Error.hpp"
+#include "spall/diagnostics/Conservation.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -79,10 +80,19 @@ template <int Dim> ExternalLoad ParticleMethod<Dim>::externalLoad(double time) c
   if (std::none_of(modules_.begin(), modules_.end(),
                    [](const auto& m) { return m->appliesExternalForces(); }))
     return {}; // no reduction
-  ExternalLoad load;
-  for (const auto& m : modules_) load += m->externalLoad(s_, f_, time);
-  std::array<double, 4> sums{load.power, load.force[0], load.force[1], load.force[2]};
-  mpi_.sumInRankOrder(sums);
+  const std::size_t n = s_.localCount();
+  externalForce_.assign(n, Vec<Dim>::Zero());
+  for (const auto& m : modules_) m->addExternalForces(s_, f_, time, externalForce_);
+  // Power F . v and force, summed independently of the particles' order and ranks.
+  const auto v = s_[f_.v];
+  const auto sums = diagnostics::orderFreeSums<4>(
+      n,
+      [&](std::size_t i, std::array<double, 4>& t) {
+        const Vec<Dim>& F = externalForce_[i];
+        t = {F.dot(v[i]), 0.0, 0.0, 0.0};
+        for (int d = 0; d < Dim; ++d) t[1 + static_cast<std::size_t>(d)] = F[d];
+      },
+      mpi_.comm());
   return {sums[0], {sums[1], sums[2], sums[3]}};
 }
 

@@ -47,8 +47,8 @@ def run(deck, ranks, skin, out, sets):
 
 
 # The history but the wall clock and what the searches decide (ghosts, migrations, imbalance:
-# they happen at searches): the totals are order-free sums, the same on any rank count (but the
-# external work, below).
+# they happen at searches): the totals and the external forces' work are order-free sums, the
+# same on any rank count.
 SKIP = ("wall_seconds", "ghosts", "migrated", "imbalance")
 
 
@@ -107,10 +107,8 @@ with tempfile.TemporaryDirectory() as tmp:
             check(t == base[1] and not differ,
                   f"{label}: {name}, final state bit for bit as skin 0"
                   + (f" (differ: {', '.join(differ)})" if differ else ""))
-            # (The external forces' work is summed by the modules in rank order: one rank only.)
             same = hist.keys() == base[2].keys() and all(
-                np.array_equal(hist[k], base[2][k], equal_nan=True) for k in hist
-                if ranks == 1 or k != "external_work")
+                np.array_equal(hist[k], base[2][k], equal_nan=True) for k in hist)
             check(same, f"{label}: {name}, history.csv identical (but ghosts, migrations, "
                         "imbalance, wall clock)")
         print(f"     ({time.time() - started:.1f} s)")

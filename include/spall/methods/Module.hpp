@@ -50,12 +50,11 @@ public:
                           double /*time*/) const {}
   // Whether the module applies external forces (then the method books their work).
   virtual bool appliesExternalForces() const { return false; }
-  // The power and the sum of the external forces the module applies to the owned particles in
-  // the state at `time` (the last evaluation's): what the conservation line books.
-  virtual ExternalLoad externalLoad(const ParticleStore& /*s*/, const ParticleFields<Dim>& /*f*/,
-                                    double /*time*/) const {
-    return {};
-  }
+  // The external force (N) the module applies to each owned particle in the state at `time`
+  // (the last evaluation's), added to F (one per owned row): the method books their power and
+  // sum for the conservation line, summed in an order-free way (diagnostics/Conservation.hpp).
+  virtual void addExternalForces(const ParticleStore& /*s*/, const ParticleFields<Dim>& /*f*/,
+                                 double /*time*/, std::span<Vec<Dim>> /*F*/) const {}
   // Once per step, before the material update, with the step's dt: history that integrates the
   // velocity gradient the material update is about to use.
   virtual void beforeMaterials(ParticleStore& /*s*/, const ParticleFields<Dim>& /*f*/,

@@ -91,6 +91,7 @@ protected:
   double externalWork_ = 0.0;
   std::array<double, 3> externalImpulse_{0.0, 0.0, 0.0};
   ExternalLoad external_;
+  mutable std::vector<Vec<Dim>> externalForce_; // scratch of externalLoad: each owned row's
 
 private:
   // The fields of owned row i that no state can have (non-finite, non-positive density or h):

@@ -35,15 +35,16 @@ TEST(ConfiningPressure, EachParticleGetsItsBodysLoadAtTheTime) {
   EXPECT_EQ(P[1], 0.0); // not loaded
   EXPECT_DOUBLE_EQ(P[2], 25.0);
   EXPECT_EQ(P[3], 0.0); // beyond the last loaded body
-  // The load on the owned particles, -P A, and its power -P A . v (a grown column's rows are
-  // not initialised: every particle's area and velocity set).
-  for (std::size_t i = 0; i < 4; ++i) s[f.surfaceArea][i] = s[f.v][i] = Vec<2>::Zero();
+  // The load on the owned particles, -P A, added to what F holds (a grown column's rows are
+  // not initialised: every particle's area set).
+  for (std::size_t i = 0; i < 4; ++i) s[f.surfaceArea][i] = Vec<2>::Zero();
   s[f.surfaceArea][2] = Vec<2>(0.0, 2.0);
-  s[f.v][2] = Vec<2>(1.0, -3.0);
-  const ExternalLoad load = module.externalLoad(s, f, 2.5);
-  EXPECT_DOUBLE_EQ(load.power, 25.0 * 6.0);
-  EXPECT_DOUBLE_EQ(load.force[1], -50.0);
-  EXPECT_EQ(load.force[0], 0.0);
+  std::vector<Vec<2>> F(4, Vec<2>(1.0, 1.0));
+  module.addExternalForces(s, f, 2.5, F);
+  EXPECT_EQ(F[0], Vec<2>(1.0, 1.0));
+  EXPECT_EQ(F[1], Vec<2>(1.0, 1.0)); // not loaded
+  EXPECT_DOUBLE_EQ(F[2][1], 1.0 - 25.0 * 2.0);
+  EXPECT_EQ(F[2][0], 1.0);
 }
 
 } // namespace

@@ -69,20 +69,13 @@ public:
       P[i] = b < byBody.size() ? byBody[b] : 0.0;
     }
   }
-  // The load on the owned particles, -P_i A_i, and its power.
+  // The load on the owned particles, -P_i A_i.
   bool appliesExternalForces() const override { return true; }
-  ExternalLoad externalLoad(const ParticleStore& s, const ParticleFields<Dim>& f,
-                            double /*time*/) const override {
+  void addExternalForces(const ParticleStore& s, const ParticleFields<Dim>& f, double /*time*/,
+                         std::span<Vec<Dim>> F) const override {
     const auto P = s[f.confiningPressure];
     const auto A = s[f.surfaceArea];
-    const auto v = s[f.v];
-    ExternalLoad load;
-    for (std::size_t i = 0; i < s.localCount(); ++i) {
-      const Vec<Dim> F = -P[i] * A[i];
-      load.power += F.dot(v[i]);
-      for (int d = 0; d < Dim; ++d) load.force[static_cast<std::size_t>(d)] += F[d];
-    }
-    return load;
+    for (std::size_t i = 0; i < s.localCount(); ++i) F[i] -= P[i] * A[i];
   }
 
 private:

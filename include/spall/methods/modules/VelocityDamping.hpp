@@ -28,19 +28,14 @@ public:
       if (!isFixed(body[i])) a[i] -= c_ * v[i];
   }
   bool appliesExternalForces() const override { return true; }
-  ExternalLoad externalLoad(const ParticleStore& s, const ParticleFields<Dim>& f,
-                            double time) const override {
-    ExternalLoad load;
-    if (!(time < until_)) return load;
+  void addExternalForces(const ParticleStore& s, const ParticleFields<Dim>& f, double time,
+                         std::span<Vec<Dim>> F) const override {
+    if (!(time < until_)) return;
     const auto m = s[f.m];
     const auto v = s[f.v];
     const auto body = s[f.body];
-    for (std::size_t i = 0; i < s.localCount(); ++i) {
-      if (isFixed(body[i])) continue;
-      load.power -= c_ * m[i] * v[i].squaredNorm();
-      for (int d = 0; d < Dim; ++d) load.force[static_cast<std::size_t>(d)] -= c_ * m[i] * v[i][d];
-    }
-    return load;
+    for (std::size_t i = 0; i < s.localCount(); ++i)
+      if (!isFixed(body[i])) F[i] -= c_ * m[i] * v[i];
   }
 
 private:
