@@ -18,11 +18,6 @@ namespace spall::methods {
 struct ExternalLoad {
   double power = 0.0;
   std::array<double, 3> force{0.0, 0.0, 0.0};
-  ExternalLoad& operator+=(const ExternalLoad& o) {
-    power += o.power;
-    for (std::size_t d = 0; d < 3; ++d) force[d] += o.force[d];
-    return *this;
-  }
 };
 
 // What a new run knows at t = 0 beyond the particles a rank owns, or, when a body joins the run

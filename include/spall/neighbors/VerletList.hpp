@@ -24,7 +24,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <exception>
 #include <limits>
 #include <span>
@@ -195,16 +194,6 @@ public:
   // kept in that order; empty otherwise (then pairs coming into reach are appended).
   std::vector<std::uint32_t>& places() {
     return places_;
-  }
-
-  // Bytes held: the wide list (the step's rows among them), the places of its order, and the
-  // positions and supports of its build.
-  std::size_t bytes() const {
-    return wide_.indices.capacity() * sizeof(std::uint32_t) +
-           wide_.offsets.capacity() * sizeof(std::uint64_t) + x0_.capacity() * sizeof(Vec<Dim>) +
-           wide_.counts.capacity() * sizeof(std::uint32_t) +
-           places_.capacity() * sizeof(std::uint32_t) + h0_.capacity() * sizeof(double) +
-           H0_.capacity() * sizeof(Tensor<Dim>);
   }
 
 private:
