@@ -1,5 +1,6 @@
 #include "spall/diagnostics/Probes.hpp"
 
+#include "spall/diagnostics/OrderFreeSums.hpp"
 #include "spall/kernels/Kernels.hpp"
 #include "spall/solvers/Axisymmetric.hpp"
 
@@ -7,6 +8,7 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
+#include <span>
 
 namespace spall::diagnostics {
 
@@ -169,8 +171,9 @@ std::vector<ProbeSample> Probes<Dim>::sample(const ParticleStore& s, const Parti
   const auto id = s[f.id];
   const auto x = s[f.x];
   for (auto& p : probes_) {
-    // Local contributions: [value..., weight] summed over ranks in rank order.
-    std::vector<double> acc(p.fields.size() + 1, 0.0);
+    // The particles that hold the probe's value here and their weights: the one a material probe
+    // follows (weight 1), or those whose support covers a space probe's point.
+    who_.clear(), weight_.clear();
     if (p.config.track == "material") {
       std::size_t i = p.cachedIndex;
       if (i >= s.localCount() || id[i] != p.particle) {
@@ -183,8 +186,7 @@ std::vector<ProbeSample> Probes<Dim>::sample(const ParticleStore& s, const Parti
       }
       if (i < s.localCount()) {
         p.cachedIndex = i;
-        for (std::size_t k = 0; k < p.fields.size(); ++k) acc[k] = fieldValue(p.fields[k], s, f, i);
-        acc.back() = 1.0;
+        who_.push_back(i), weight_.push_back(1.0);
       }
     } else {
       Vec<Dim> at;
@@ -199,13 +201,20 @@ std::vector<ProbeSample> Probes<Dim>::sample(const ParticleStore& s, const Parti
         // The kernel average over volumes: in rz the particle's area in the r-z plane.
         const double mass =
             axisymmetric_ ? solvers::rz::areaMass(m[i], solvers::rz::radius(x[i][0], h[i])) : m[i];
-        const double w = mass / rho[i] * W::W(r, h[i]);
-        for (std::size_t k = 0; k < p.fields.size(); ++k)
-          acc[k] += w * fieldValue(p.fields[k], s, f, i);
-        acc.back() += w;
+        who_.push_back(i), weight_.push_back(mass / rho[i] * W::W(r, h[i]));
       }
     }
-    mpi.sumInRankOrder(acc);
+    // [w value..., w] summed independently of the ranks and the particles' order: the same bits
+    // on any rank count (a material probe's one term exactly).
+    const std::size_t nf = p.fields.size();
+    const auto acc = orderFreeSums(
+        who_.size(), nf + 1,
+        [&](std::size_t k, std::span<double> t) {
+          for (std::size_t q = 0; q < nf; ++q)
+            t[q] = weight_[k] * fieldValue(p.fields[q], s, f, who_[k]);
+          t[nf] = weight_[k];
+        },
+        mpi.comm());
     const double weight = acc.back();
     for (std::size_t k = 0; k < p.fields.size(); ++k) {
       const double value =

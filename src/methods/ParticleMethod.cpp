@@ -87,9 +87,10 @@ template <int Dim> ExternalLoad ParticleMethod<Dim>::externalLoad(double time) c
   const auto v = s_[f_.v];
   const auto sums = diagnostics::orderFreeSums<4>(
       n,
-      [&](std::size_t i, std::array<double, 4>& t) {
+      [&](std::size_t i, std::span<double> t) {
         const Vec<Dim>& F = externalForce_[i];
-        t = {F.dot(v[i]), 0.0, 0.0, 0.0};
+        std::fill(t.begin(), t.end(), 0.0);
+        t[0] = F.dot(v[i]);
         for (int d = 0; d < Dim; ++d) t[1 + static_cast<std::size_t>(d)] = F[d];
       },
       mpi_.comm());

@@ -7,6 +7,7 @@
 // support reaches the deepest point, the material at the tip. In a steady penetration the rate
 // and the tip velocity are both the penetration velocity U (Austin 2013, Eq. 3.2).
 #include "spall/core/ParticleFields.hpp"
+#include "spall/diagnostics/OrderFreeSums.hpp"
 #include "spall/io/Checkpoint.hpp"
 #include "spall/parallel/Mpi.hpp"
 
@@ -15,6 +16,7 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <span>
 #include <vector>
 
 namespace spall::diagnostics {
@@ -31,8 +33,8 @@ public:
       : penetrator_(std::move(penetrator)), surface_(surface), n_(direction), support_(support) {}
 
   // The row at `time`, or nothing while the penetrator has no particles (a body not yet
-  // inserted). The depth is a maximum, the same on any rank count; the tip velocity a sum in rank
-  // order (round-off apart, the same).
+  // inserted). The depth is a maximum and the tip velocity's sums order-free: the same bits on
+  // any rank count.
   std::optional<PenetrationRow> measure(double time, const ParticleStore& s,
                                         const ParticleFields<Dim>& f,
                                         const parallel::MpiContext& mpi) {
@@ -47,13 +49,16 @@ public:
       if (isPenetrator(body[i])) deepest = std::max(deepest, (x[i] - surface_).dot(n_));
     deepest = mpi.max(deepest);
     if (deepest == -std::numeric_limits<double>::infinity()) return std::nullopt;
-    std::array<double, 2> tip{0.0, 0.0}; // sum m v.n, sum m
-    for (std::size_t i = 0; i < n; ++i)
-      if (isPenetrator(body[i]) && (x[i] - surface_).dot(n_) >= deepest - support_ * h[i]) {
-        tip[0] += m[i] * v[i].dot(n_);
-        tip[1] += m[i];
-      }
-    mpi.sumInRankOrder(tip);
+    // sum m v.n and sum m over the tip's particles, order-free (the same bits on any rank count)
+    const auto tip = orderFreeSums<2>(
+        n,
+        [&](std::size_t i, std::span<double> t) {
+          const bool atTip =
+              isPenetrator(body[i]) && (x[i] - surface_).dot(n_) >= deepest - support_ * h[i];
+          t[0] = atTip ? m[i] * v[i].dot(n_) : 0.0;
+          t[1] = atTip ? m[i] : 0.0;
+        },
+        mpi.comm());
     PenetrationRow row{time, deepest, 0.0, tip[0] / tip[1]};
     // The first row has no earlier one to difference with: its rate is the tip's velocity.
     row.rate = hasPrevious_ && time > previousTime_

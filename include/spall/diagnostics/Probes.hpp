@@ -80,6 +80,8 @@ private:
     std::size_t cachedIndex = 0;
   };
   std::vector<Probe> probes_;
+  std::vector<std::size_t> who_; // a sample's scratch: the particles that hold a probe's value
+  std::vector<double> weight_;
 };
 
 } // namespace spall::diagnostics

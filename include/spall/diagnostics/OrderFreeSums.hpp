@@ -1,0 +1,80 @@
+#pragma once
+// Sums of per-particle terms that do not depend on the terms' order: each quantity's terms are
+// scaled by the power of two that brings its largest magnitude over all ranks below 2^62,
+// truncated to 64-bit integers and added exactly in 128 bits, on every rank and then over all
+// ranks. So the totals are the same bit for bit however the particles are stored, on any number
+// of ranks and threads (a rank's storage order changes when particles migrate or are sorted,
+// which kept neighbor lists make depend on the run's history). Each term keeps 62 bits relative
+// to the largest: finer than a double sum's rounding (a quantity with one nonzero term is that
+// term exactly). A quantity with a non-finite term is summed as plain doubles (the run's
+// finiteness check names the particle).
+#include <mpi.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace spall::diagnostics {
+
+__extension__ typedef __int128 Int128; // GCC's and Clang's 128-bit integer
+
+// `count` quantities over n terms: terms(i, t) writes term i of each quantity into t (a span of
+// `count`); the totals, the same on every rank.
+template <class Terms>
+std::vector<double> orderFreeSums(std::size_t n, std::size_t count, const Terms& terms,
+                                  MPI_Comm comm) {
+  std::vector<double> largest(count, 0.0), t(count, 0.0), scale(count, 0.0), plain(count, 0.0);
+  const std::span<double> term(t);
+  for (std::size_t i = 0; i < n; ++i) {
+    terms(i, term);
+    for (std::size_t q = 0; q < count; ++q) largest[q] = std::max(largest[q], std::abs(t[q]));
+  }
+  const int c = static_cast<int>(count);
+  MPI_Allreduce(MPI_IN_PLACE, largest.data(), c, MPI_DOUBLE, MPI_MAX, comm);
+  for (std::size_t q = 0; q < count; ++q) {
+    int e = 0;
+    if (std::isfinite(largest[q]) && largest[q] > 0.0) std::frexp(largest[q], &e); // < 2^e
+    scale[q] = std::isfinite(largest[q]) ? std::ldexp(1.0, 62 - e) : 0.0;
+  }
+  std::vector<Int128> fixed(count, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    terms(i, term);
+    for (std::size_t q = 0; q < count; ++q) {
+      if (scale[q] > 0.0)
+        fixed[q] += static_cast<std::int64_t>(t[q] * scale[q]);
+      else
+        plain[q] += t[q];
+    }
+  }
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  std::vector<Int128> all(count * static_cast<std::size_t>(ranks));
+  const int bytes = static_cast<int>(count * sizeof(Int128));
+  MPI_Allgather(fixed.data(), bytes, MPI_BYTE, all.data(), bytes, MPI_BYTE, comm);
+  MPI_Allreduce(MPI_IN_PLACE, plain.data(), c, MPI_DOUBLE, MPI_SUM, comm);
+  std::vector<double> out(count, 0.0);
+  for (std::size_t q = 0; q < count; ++q) {
+    if (!(scale[q] > 0.0)) {
+      out[q] = plain[q];
+      continue;
+    }
+    Int128 sum = 0;
+    for (int r = 0; r < ranks; ++r) sum += all[static_cast<std::size_t>(r) * count + q];
+    out[q] = static_cast<double>(sum) / scale[q];
+  }
+  return out;
+}
+
+// N quantities known at compile time: terms(i, t) writes into a std::span<double> of N.
+template <std::size_t N, class Terms>
+std::array<double, N> orderFreeSums(std::size_t n, const Terms& terms, MPI_Comm comm) {
+  const auto sums = orderFreeSums(n, N, terms, comm);
+  std::array<double, N> out{};
+  std::copy(sums.begin(), sums.end(), out.begin());
+  return out;
+}
+
+} // namespace spall::diagnostics
