@@ -3,6 +3,7 @@
 #include "spall/core/Random.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <numeric>
@@ -26,12 +27,15 @@ struct UnionFind {
 };
 
 // A fragment's share on one rank, sent to the label's home rank: its members there, their exact
-// mass (fixed point), and the sums for the centre of mass about the share's first member.
+// mass, momentum and first moment along axes that are not periodic (fixed point), and along a
+// periodic one the sums for the centre about the share's first member.
 struct Partial {
   Int128 q = 0;                    // sum of the members' fixed-point masses
+  Int128 qmx[3] = {0, 0, 0};       // ... of m x (axes that are not periodic)
+  Int128 qmv[3] = {0, 0, 0};       // ... of m v
   ParticleId label = 0, first = 0; // first: the share's smallest id
   std::uint64_t count = 0;
-  double m = 0.0, ref[3] = {0, 0, 0}, mx[3] = {0, 0, 0}, mv[3] = {0, 0, 0};
+  double m = 0.0, ref[3] = {0, 0, 0}, mx[3] = {0, 0, 0};
 };
 
 int homeOf(ParticleId label, int ranks) {
@@ -98,10 +102,20 @@ FragmentCatalogue findFragments(const FragmentInput<Dim>& in, const GhostRefresh
 
   // Each rank's share of each fragment (members in id order), summed at the label's home rank:
   // one record per fragment and rank, however large the fragment.
-  double mMax = 0.0;
-  for (std::size_t i = 0; i < n; ++i) mMax = std::max(mMax, in.m[i]);
-  MPI_Allreduce(MPI_IN_PLACE, &mMax, 1, MPI_DOUBLE, MPI_MAX, comm);
-  const FixedMass fixed(mMax);
+  // The largest |m|, |m x_d| and |m v_d| over all ranks set each quantity's fixed point.
+  std::array<double, 7> largest{};
+  for (std::size_t i = 0; i < n; ++i) {
+    largest[0] = std::max(largest[0], in.m[i]);
+    for (int d = 0; d < Dim; ++d) {
+      largest[1 + d] = std::max(largest[1 + d], std::abs(in.m[i] * in.x[i][d]));
+      largest[4 + d] = std::max(largest[4 + d], std::abs(in.m[i] * in.v[i][d]));
+    }
+  }
+  MPI_Allreduce(MPI_IN_PLACE, largest.data(), 7, MPI_DOUBLE, MPI_MAX, comm);
+  const FixedPoint fixed(largest[0]);
+  std::array<FixedPoint, 3> fixedMx, fixedMv;
+  for (int d = 0; d < Dim; ++d) fixedMx[d] = FixedPoint(largest[1 + d]);
+  for (int d = 0; d < Dim; ++d) fixedMv[d] = FixedPoint(largest[4 + d]);
   std::vector<std::uint32_t> byLabel(n);
   std::iota(byLabel.begin(), byLabel.end(), 0u);
   std::sort(byLabel.begin(), byLabel.end(), [&](std::uint32_t a, std::uint32_t b) {
@@ -124,8 +138,11 @@ FragmentCatalogue findFragments(const FragmentInput<Dim>& in, const GhostRefresh
       pt.q += fixed.of(in.m[i]);
       pt.m += in.m[i];
       for (int d = 0; d < Dim; ++d) {
-        pt.mx[d] += in.m[i] * unwrap(in.x[i][d], pt.ref[d], d);
-        pt.mv[d] += in.m[i] * in.v[i][d];
+        if (in.period[d] > 0.0)
+          pt.mx[d] += in.m[i] * unwrap(in.x[i][d], pt.ref[d], d);
+        else
+          pt.qmx[d] += fixedMx[d].of(in.m[i] * in.x[i][d]);
+        pt.qmv[d] += fixedMv[d].of(in.m[i] * in.v[i][d]);
       }
     }
     out[static_cast<std::size_t>(homeOf(pt.label, ranks))].push_back(pt);
@@ -141,8 +158,8 @@ FragmentCatalogue findFragments(const FragmentInput<Dim>& in, const GhostRefresh
     const Partial& head = mine[k];
     Fragment f;
     f.label = head.label;
-    Int128 q = 0;
-    double m = 0.0, mx[3] = {0, 0, 0}, mv[3] = {0, 0, 0};
+    Int128 q = 0, qmx[3] = {0, 0, 0}, qmv[3] = {0, 0, 0};
+    double m = 0.0, mx[3] = {0, 0, 0};
     for (; k < mine.size() && mine[k].label == head.label; ++k) {
       const Partial& pt = mine[k];
       f.particles += pt.count;
@@ -151,11 +168,15 @@ FragmentCatalogue findFragments(const FragmentInput<Dim>& in, const GhostRefresh
       for (int d = 0; d < Dim; ++d) {
         const double shift = unwrap(pt.ref[d], head.ref[d], d) - pt.ref[d];
         mx[d] += pt.mx[d] + pt.m * shift;
-        mv[d] += pt.mv[d];
+        qmx[d] += pt.qmx[d];
+        qmv[d] += pt.qmv[d];
       }
     }
     f.mass = fixed.value(q);
-    for (int d = 0; d < Dim; ++d) f.x[d] = mx[d] / m, f.v[d] = mv[d] / m;
+    for (int d = 0; d < Dim; ++d) {
+      f.x[d] = in.period[d] > 0.0 ? mx[d] / m : fixedMx[d].value(qmx[d]) / f.mass;
+      f.v[d] = fixedMv[d].value(qmv[d]) / f.mass;
+    }
     local.push_back(f);
   }
 

@@ -1,9 +1,10 @@
 // Friends of friends across ranks (diagnostics/Fragments.hpp) on synthetic particles, against a
 // brute-force union-find over all particles that every rank makes alike: the same fragments (the
-// smallest id, the member count, the exact mass, the periodic centre of mass to round-off), in the
-// same order, and every owned particle's place in it. A random cloud near the percolation density
-// gives fragments of every size, many straddling rank borders and the periodic x boundary; every
-// seventh particle is "damaged" and links to nothing. Runs on any number of ranks (ctest: 1-5).
+// smallest id, the member count, the exact mass, velocity and non-periodic centre, the periodic
+// centre to round-off), in the same order, and every owned particle's place in it. A random cloud
+// near the percolation density gives fragments of every size, many straddling rank borders and the
+// periodic x boundary; every seventh particle is "damaged" and links to nothing. Runs on any number
+// of ranks (ctest: 1-5).
 #include "spall/core/ParticleStore.hpp"
 #include "spall/diagnostics/Fragments.hpp"
 #include "spall/parallel/Decomposition.hpp"
@@ -91,23 +92,31 @@ std::vector<diagnostics::Fragment> bruteForce(const std::vector<Particle>& all,
   std::map<std::size_t, std::vector<std::size_t>> groups;
   for (std::size_t i = 0; i < n; ++i) groups[find(i)].push_back(i);
   std::vector<diagnostics::Fragment> out;
-  double mMax = 0.0;
-  for (const auto& p : all) mMax = std::max(mMax, p.m);
-  const diagnostics::FixedMass fixed(mMax);
+  // The fixed points findFragments uses: the largest |m|, |m x_d|, |m v_d| of all particles.
+  double mMax = 0.0, mxMax[3] = {0, 0, 0}, mvMax[3] = {0, 0, 0};
+  for (const auto& p : all) {
+    mMax = std::max(mMax, p.m);
+    for (int d = 0; d < 3; ++d) {
+      mxMax[d] = std::max(mxMax[d], std::abs(p.m * p.x[d]));
+      mvMax[d] = std::max(mvMax[d], std::abs(p.m * p.v[d]));
+    }
+  }
+  const diagnostics::FixedPoint fixed(mMax);
   for (const auto& [root, members] : groups) {
     diagnostics::Fragment f;
     f.label = all[members.front()].id;
     f.particles = members.size();
-    double mx[3] = {0, 0, 0}, mv[3] = {0, 0, 0}, msum = 0.0;
-    diagnostics::Int128 q = 0;
+    double mx0 = 0.0, msum = 0.0; // x is periodic: its centre in doubles
+    diagnostics::Int128 q = 0, qmx[3] = {0, 0, 0}, qmv[3] = {0, 0, 0};
     for (const std::size_t k : members) {
       q += fixed.of(all[k].m);
       msum += all[k].m;
+      const double x =
+          all[k].x[0] - kPeriod * std::round((all[k].x[0] - all[members.front()].x[0]) / kPeriod);
+      mx0 += all[k].m * x;
       for (int d = 0; d < 3; ++d) {
-        double x = all[k].x[d];
-        if (d == 0) x -= kPeriod * std::round((x - all[members.front()].x[0]) / kPeriod);
-        mx[d] += all[k].m * x;
-        mv[d] += all[k].m * all[k].v[d];
+        qmx[d] += diagnostics::FixedPoint(mxMax[d]).of(all[k].m * all[k].x[d]);
+        qmv[d] += diagnostics::FixedPoint(mvMax[d]).of(all[k].m * all[k].v[d]);
       }
     }
     f.mass = fixed.value(q);
@@ -119,8 +128,11 @@ std::vector<diagnostics::Fragment> bruteForce(const std::vector<Particle>& all,
           all[k].x[0] - kPeriod * std::round((all[k].x[0] - all[members.front()].x[0]) / kPeriod);
       lo = std::min(lo, x), hi = std::max(hi, x);
     }
-    if (hi - lo >= 0.45 * kPeriod) mx[0] = std::numeric_limits<double>::quiet_NaN();
-    for (int d = 0; d < 3; ++d) f.x[d] = mx[d] / msum, f.v[d] = mv[d] / msum;
+    f.x[0] = hi - lo >= 0.45 * kPeriod ? std::numeric_limits<double>::quiet_NaN() : mx0 / msum;
+    for (int d = 0; d < 3; ++d) {
+      if (d > 0) f.x[d] = diagnostics::FixedPoint(mxMax[d]).value(qmx[d]) / f.mass;
+      f.v[d] = diagnostics::FixedPoint(mvMax[d]).value(qmv[d]) / f.mass;
+    }
     out.push_back(f);
   }
   std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) {
@@ -210,13 +222,17 @@ TEST(Fragments, FriendsOfFriendsAcrossRanksAndPeriodicBoundsMatchBruteForce) {
     EXPECT_EQ(a.label, b.label) << k;
     EXPECT_EQ(a.particles, b.particles) << k;
     EXPECT_EQ(a.mass, b.mass) << k; // exact sums on both sides: bit for bit
-    // Centres of mass: the shares of ranks summed in another order, round-off (relative 1e-13
-    // of the box, 1e-13 of the largest velocity).
+    // Velocities and the centre along the axes that are not periodic: exact sums, bit for bit.
+    // Along the periodic x the shares of ranks are summed in another order: round-off (1e-13 of
+    // the box).
+    if (!std::isnan(b.x[0])) {
+      EXPECT_NEAR(a.x[0], b.x[0], 1e-13) << k;
+    }
     for (int d = 0; d < 3; ++d) {
-      if (!std::isnan(b.x[d])) {
-        EXPECT_NEAR(a.x[d], b.x[d], 1e-13) << k;
+      if (d > 0) {
+        EXPECT_EQ(a.x[d], b.x[d]) << k << " axis " << d;
       }
-      EXPECT_NEAR(a.v[d], b.v[d], 1e-13) << k;
+      EXPECT_EQ(a.v[d], b.v[d]) << k << " axis " << d;
     }
     largest = std::max<std::size_t>(largest, b.particles);
     straddling += b.particles > 1 && (b.x[0] < 0.0 || b.x[0] > kPeriod - 0.05 || b.x[0] < 0.05);

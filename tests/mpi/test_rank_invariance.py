@@ -178,8 +178,9 @@ with tempfile.TemporaryDirectory() as tmp:
                 err = float(np.max(np.abs(h1[col] - hr[col]))) / scale
                 check(np.array_equal(h1[col], hr[col]),
                       f"{label} on {ranks} ranks: history {col} identical to 1 rank's ({err:.1e})")
-            # Probes and the penetration gauge: the same text as on one rank.
-            for csv in ("probes.csv", "penetration.csv"):
+            # Probes, the penetration gauge and the fragment catalogue: the same text as on one
+            # rank.
+            for csv in ("probes.csv", "penetration.csv", "fragments.csv"):
                 if base_out is not None and (base_out / csv).exists():
                     check((out / csv).exists() and
                           (out / csv).read_text() == (base_out / csv).read_text(),

@@ -9,9 +9,10 @@
 // reaches, ghosts carrying their owner's label, until no label changes anywhere (as many rounds as
 // a fragment crosses rank borders). The catalogue: each rank sums its share of every fragment and
 // sends it to the rank that owns the label (a hash of it): one record per fragment and rank,
-// however large the fragment. Masses are summed exactly (FixedMass), so a fragment's mass, and
-// the order of fragments by mass (largest first, ties by label), and so each particle's place,
-// are the same on any rank count; centres of mass and velocities agree to round-off. The totals
+// however large the fragment. Masses, momenta and (along axes that are not periodic) first
+// moments are summed exactly (FixedPoint), so a fragment's mass, velocity and centre, the order of
+// fragments by mass (largest first, ties by label), and so each particle's place, are the same on
+// any rank count; along a periodic axis the centre agrees to round-off. The totals
 // meet on rank 0, which writes the catalogue. No rank ever holds all particles.
 #include "spall/core/Types.hpp"
 #include "spall/neighbors/NeighborList.hpp"
@@ -40,15 +41,15 @@ template <int Dim> struct FragmentInput {
 
 __extension__ using Int128 = __int128; // GCC and clang
 
-// Exact, order-independent sums of masses: each mass is rounded once to a multiple of 2^-E, E
-// chosen so that the largest mass of the run (mMax) is below 2^62, and summed in 128-bit
-// integers (room for 2^64 particles). Masses below 2^-62 of the largest lose their last bits
-// identically on every rank count.
-class FixedMass {
+// Exact, order-independent sums of one quantity (masses, momenta, first moments): each term is
+// rounded once to a multiple of 2^-E, E chosen so that the largest magnitude of the run (largest)
+// is below 2^62, and summed in 128-bit integers (room for 2^64 particles). Terms below 2^-62 of
+// the largest lose their last bits identically on every rank count.
+class FixedPoint {
 public:
-  explicit FixedMass(double mMax) {
+  explicit FixedPoint(double largest = 1.0) {
     int e = 0;
-    std::frexp(mMax > 0.0 ? mMax : 1.0, &e); // mMax < 2^e
+    std::frexp(largest > 0.0 ? largest : 1.0, &e); // largest < 2^e
     E_ = 62 - e;
   }
   Int128 of(double m) const { return static_cast<Int128>(std::llround(std::ldexp(m, E_))); }
