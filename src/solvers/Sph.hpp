@@ -12,6 +12,7 @@
 #include "spall/solvers/CrackedPairs.hpp"
 #include "spall/solvers/IdealH.hpp"
 #include "spall/solvers/SphPairTerms.hpp"
+#include "spall/solvers/VoronoiCell.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -147,8 +148,8 @@ public:
       ratesLoop<Stress::Cauchy>(nl);
   }
 
-  // Owen (2010) Eqs. 1-6 (solvers/IdealH.hpp): n_h from the last loop's Psi_0, then h, or H from
-  // the second moments of the same loop.
+  // Owen (2010) Eqs. 1-4 (solvers/IdealH.hpp): n_h from the last loop's Psi_0, then h, or H with
+  // its shape from the Voronoi cells of the same loop.
   void updateSmoothing() override {
     const auto h = s_[f_.h];
     const auto m = planarMass();
@@ -160,7 +161,8 @@ public:
     for (std::size_t i = 0; i < s_.localCount(); ++i) {
       const double factor = sizeFactor(psi_.nodesPerH(root<Dim>(sumWH[i])), cfg_.nodes_per_h);
       if constexpr (Aniso) {
-        idealHTensor<Dim>(s_[f_.H][i], h[i], factor, psi2Eta_[i], psi2x_[i], m[i], rho[i], lim);
+        idealHTensor<Dim>(s_[f_.H][i], h[i], factor, cellClosed_[i] ? &cellSecond_[i] : nullptr,
+                          m[i], rho[i], lim);
       } else {
         h[i] = idealH<Dim>(h[i], factor, m[i], rho[i], lim);
       }
@@ -324,9 +326,10 @@ private:
   std::vector<double> rhoPrev_;
   std::vector<double> divNew_, curlNew_; // this loop's div v, |curl v| (Balsara), owned rows
   std::vector<AnisoRow> anisoRow_;       // scratch of the ASPH loops
-  // Second moments of the last force loop, owned rows, for the next updateSmoothing (no
-  // migration in between): Eq. 5 in the eta frame of H_i, and the physical-frame one of the axes.
-  std::vector<Tensor<Dim>> psi2Eta_, psi2x_;
+  // The Voronoi cells of the last force loop, owned rows, for the next updateSmoothing (no
+  // migration in between): second moments, and whether the cell closed.
+  std::vector<Tensor<Dim>> cellSecond_;
+  std::vector<std::uint8_t> cellClosed_;
 };
 
 } // namespace spall::solvers::sph

@@ -90,7 +90,7 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl) {
   const auto mass = s_[f_.m];
   // What the pair loop needs of a neighbor j that depends on j alone, once per row and packed
   // together: the pair loop is left with one division (1/r) and one square root.
-  if constexpr (Aniso) prepareAnisoRows(), psi2Eta_.resize(n), psi2x_.resize(n);
+  if constexpr (Aniso) prepareAnisoRows(), cellSecond_.resize(n), cellClosed_.resize(n);
   // The pair term's form and the Balsara switch enter as per-row factors, so that the pair
   // loop has no branch on them: q = p/rho^2 and s = 1 (rho^2 form) or q = p and s = 1/rho
   // (product form), the pressure term being (q_i + q_j) s_i s_j; f = the Balsara factor, or 1.
@@ -140,8 +140,6 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl) {
     Vec<Dim> ai = Vec<Dim>::Zero(), Gi = Vec<Dim>::Zero();
     const double uI = product ? 1.0 : 1.0 / (rhoi * rhoi); // q of a unit pressure
     double dei = 0.0, drhoi = 0.0, sumWHi = 0.0, mui = 0.0, divi = 0.0;
-    [[maybe_unused]] Tensor<Dim> psi2i, psi2xi;
-    if constexpr (Aniso) psi2i.setZero(), psi2xi.setZero();
     [[maybe_unused]] Eigen::Matrix<double, Dim == 3 ? 3 : 1, 1> curli;
     curli.setZero();
     // Solids: S_i / rho_i^2 (or S_i / rho_i for the product form) in the Dim x Dim block, and the
@@ -181,7 +179,7 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl) {
         if (!(etaI2 > 0.0 && etaJ2 > 0.0)) continue; // coincident in eta (underflow)
         // The divisions start from the squares, in parallel with the square roots (the pair's
         // chain of dependent latencies is what this loop waits on).
-        const double r2Inv = 1.0 / r2, etaI2Inv = 1.0 / etaI2, etaJ2Inv = 1.0 / etaJ2;
+        const double etaI2Inv = 1.0 / etaI2, etaJ2Inv = 1.0 / etaJ2;
         const double etaI = std::sqrt(etaI2), etaJ = std::sqrt(etaJ2);
         const double etaIInv = etaI * etaI2Inv, etaJInv = etaJ * etaJ2Inv;
         const double dfI = etaI < K::support ? K::df(etaI) : 0.0;
@@ -190,17 +188,9 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl) {
         gradW = 0.5 * (gradWi + (rowJ.normGrad * dfJ * etaJInv) * gj);
         hbarOverR = 0.5 * (etaIInv + etaJInv);
         qMean = 0.5 * (etaI + etaJ);
-        // Owen (2010), Eqs. 1 and 5 with W^H = |dW/deta| (Sec. II-C); the second moments of the
-        // neighbor directions (see idealHTensor, solvers/IdealH.hpp), both as sums of x x^T: the
-        // eta-frame one is H_i (sum w^2 x x^T) H_i, applied once per particle. W^H = 0 outside
-        // i's support, so a neighbor that only j's support reaches adds nothing (no branch).
-        const double wH = sigma * std::abs(dfI);
-        sumWHi += wH;
-        // w^2 e e^T = (W^H/eta^(nu-1))^2 e^ e^T; W^H^2 x^ x^ / r^2: closer is heavier.
-        const double w = wH * ipow<Dim>(etaIInv), wx = wH * r2Inv;
-        const MatD xx = xij * xij.transpose();
-        psi2i.noalias() += (w * w) * xx;
-        psi2xi.noalias() += (wx * wx) * xx;
+        // Owen (2010), Eq. 1 with W^H = |dW/deta| (Sec. II-C). W^H = 0 outside i's support, so a
+        // neighbor that only j's support reaches adds nothing (no branch).
+        sumWHi += sigma * std::abs(dfI);
       } else {
         if constexpr (KernelPass) {
           const PairKernel& pk = kernelRow[k];
@@ -411,7 +401,17 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl) {
     // shock by ~40% here; the gather form gives the post-shock density within 8%.)
     drhodt[i] = rhoi * drhoi;
     sumWH[i] = sumWHi;
-    if constexpr (Aniso) psi2Eta_[i] = s_[f_.H][i] * psi2i * s_[f_.H][i], psi2x_[i] = psi2xi;
+    if constexpr (Aniso) {
+      // The shape of the next H (solvers/IdealH.hpp): i's Voronoi cell among the row, in a box
+      // as wide as i's longest reach, cut in the row's (rank-count-independent) order on ties.
+      thread_local std::vector<Vec<Dim>> offsets;
+      thread_local std::vector<std::pair<double, std::uint32_t>> order;
+      thread_local VoronoiCell<Dim> cell;
+      offsets.clear();
+      for (std::uint32_t j : row) offsets.push_back(x[j] - xi);
+      cellClosed_[i] = voronoiCell<Dim>(cell, offsets, K::support * hi, order);
+      cellSecond_[i] = cellClosed_[i] ? cell.moments().second : Tensor<Dim>::Zero();
+    }
     muMax[i] = mui;
     if (balsara) {
       // Not into divv/curlv yet: later rows of this loop read them of their owned neighbors,

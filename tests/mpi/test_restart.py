@@ -240,6 +240,12 @@ with tempfile.TemporaryDirectory() as tmp:
     stopped_and_restarted(rod, 2, tmp / "srd", ["run.end_time=4e-5"], 4300,
                           "stretching rod (ASPH, tensor damage), 2 ranks, restart mid-failure")
 
+    # ASPH in 3D: the shapes come from the Voronoi cells among the step's neighbors (nothing of
+    # them is checkpointed), and the kept lists are searched again after the restart.
+    stopped_and_restarted(SRC / "decks/taylor_bar_3d.toml", 2, tmp / "asph3d",
+                          ["run.resolution=0.4", "run.max_steps=40", "solver.method=asph"], 20,
+                          "Taylor bar (ASPH, 3D), 2 ranks, restart")
+
     # The cap model mid-compaction (saturated): eps_v^p, X, porosity and pore pressure are
     # checkpointed; the return after the restart starts from the same state.
     sand = SRC / "decks/sandstone_confined_2d.toml"

@@ -34,18 +34,33 @@ TEST(IdealH, SphStaysWithinItsVolumeRatios) {
 }
 
 TEST(IdealH, AsphMeanAxisStaysAboveItsVolumeFloor) {
-  // An ellipse with axes 3 mm and 0.75 mm (ratio 4, mean axis the volume scale) whose neighbors
-  // ask it to shrink ten times, isotropic in its own frame (no shape change): its mean axis stops
-  // at half the volume scale and its axis ratio is kept.
-  Tensor<2> H = Tensor<2>::Zero();
-  H(0, 0) = 1.0 / 3.0e-3, H(1, 1) = 1.0 / 0.75e-3;
-  double h = 3.0e-3;
-  const Tensor<2> isotropic = Tensor<2>::Identity();
-  Tensor<2> psi2x = Tensor<2>::Zero(); // its axes along x and y
-  psi2x(0, 0) = 1.0, psi2x(1, 1) = 2.0;
-  idealHTensor<2>(H, h, 0.1, isotropic, psi2x, kM, kRho, kLimits);
+  // A round H whose neighbors ask it to shrink ten times and whose Voronoi cell is a 2 by 0.5
+  // rectangle (second moment diag(a^2, b^2)/12): the axes take the cell's ratio, 4, the long one
+  // along x, and the mean axis stops at half the volume scale.
+  Tensor<2> H = Tensor<2>::Identity() / kVolumeH;
+  double h = kVolumeH;
+  Tensor<2> cell = Tensor<2>::Zero();
+  cell(0, 0) = 4.0e-6 / 12.0, cell(1, 1) = 0.25e-6 / 12.0;
+  idealHTensor<2>(H, h, 0.1, &cell, kM, kRho, kLimits);
   const double meanAxis = 1.0 / std::sqrt(H.determinant());
   EXPECT_NEAR(meanAxis, 0.5 * kVolumeH, 1e-12 * kVolumeH);
   EXPECT_NEAR(H(1, 1) / H(0, 0), 4.0, 1e-12);
+  EXPECT_NEAR(H(0, 1), 0.0, 1e-12 * H(0, 0));
   EXPECT_NEAR(h, 1.0 / H(0, 0), 1e-18);
+}
+
+TEST(IdealH, AsphOpenCellKeepsItsShape) {
+  // No closed cell (a free surface): an ellipse at 30 degrees with axes 3 and 0.75 mm keeps its
+  // axes' directions and ratio while its size follows the factor (0.8: every axis 0.8 times as
+  // long, the mean 1.2 mm above its floor of 0.75 mm, the longest 2.4 mm below its cap of 3 mm).
+  const double c = std::cos(0.5236), s = std::sin(0.5236);
+  Tensor<2> R;
+  R << c, -s, s, c;
+  const Vec<2> axes(1.0 / 3.0e-3, 1.0 / 0.75e-3);
+  Tensor<2> H = R * axes.asDiagonal() * R.transpose();
+  const Tensor<2> before = H;
+  double h = 3.0e-3;
+  idealHTensor<2>(H, h, 0.8, nullptr, kM, kRho, kLimits);
+  EXPECT_LT((H - before / 0.8).norm(), 1e-12 * before.norm());
+  EXPECT_NEAR(h, 2.4e-3, 1e-15);
 }
