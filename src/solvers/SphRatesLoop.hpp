@@ -403,7 +403,7 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl) {
     sumWH[i] = sumWHi;
     if constexpr (Aniso) {
       // The shape of the next H (solvers/IdealH.hpp): i's Voronoi cell among the row, in a box
-      // as wide as i's longest reach, cut in the row's (rank-count-independent) order on ties.
+      // as wide as i's longest reach, cut in the row's (rank-count-independent) order.
       thread_local std::vector<Vec<Dim>> offsets;
       thread_local std::vector<std::pair<double, std::uint32_t>> order;
       thread_local VoronoiCell<Dim> cell;
