@@ -405,11 +405,10 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl) {
       // The shape of the next H (solvers/IdealH.hpp): i's Voronoi cell among the row, in a box
       // as wide as i's longest reach, cut in the row's (rank-count-independent) order.
       thread_local std::vector<Vec<Dim>> offsets;
-      thread_local std::vector<std::pair<double, std::uint32_t>> order;
       thread_local VoronoiCell<Dim> cell;
       offsets.clear();
       for (std::uint32_t j : row) offsets.push_back(x[j] - xi);
-      cellClosed_[i] = voronoiCell<Dim>(cell, offsets, K::support * hi, order);
+      cellClosed_[i] = voronoiCell<Dim>(cell, offsets, K::support * hi);
       cellSecond_[i] = cellClosed_[i] ? cell.moments().second : Tensor<Dim>::Zero();
     }
     muMax[i] = mui;

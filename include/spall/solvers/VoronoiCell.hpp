@@ -27,6 +27,18 @@ template <int Dim> struct CellMoments {
   Tensor<Dim> second = Tensor<Dim>::Zero(); // about the centroid, per unit volume
 };
 
+// The moments from the cell's sums: its volume, first moment m1 and second moment m2 about the
+// particle.
+template <int Dim>
+CellMoments<Dim> cellMoments(double volume, const Vec<Dim>& m1, const Tensor<Dim>& m2) {
+  CellMoments<Dim> out;
+  out.volume = volume;
+  if (volume <= 0.0) return out;
+  out.centroid = m1 / volume;
+  out.second = m2 / volume - out.centroid * out.centroid.transpose();
+  return out;
+}
+
 template <int Dim> class VoronoiCell;
 
 // A cut that would take off no more than this fraction of the plane's distance c/|n| is not
@@ -111,7 +123,6 @@ public:
   // Triangles (0, a, b): area |a x b|/2, first moment area (a+b)/3, second area/12 (a a^T +
   // b b^T + (a+b)(a+b)^T); the origin is inside the cell, so every triangle counts positive.
   CellMoments<2> moments() const {
-    CellMoments<2> out;
     Vec<2> m1 = Vec<2>::Zero();
     Tensor<2> m2 = Tensor<2>::Zero();
     double twiceArea = 0.0;
@@ -125,11 +136,7 @@ public:
       m1 += (A2 / 6.0) * s;
       m2 += (A2 / 24.0) * (a * a.transpose() + b * b.transpose() + s * s.transpose());
     }
-    out.volume = 0.5 * twiceArea;
-    if (out.volume <= 0.0) return out;
-    out.centroid = m1 / out.volume;
-    out.second = m2 / out.volume - out.centroid * out.centroid.transpose();
-    return out;
+    return cellMoments<2>(0.5 * twiceArea, m1, m2);
   }
 
 private:
@@ -218,7 +225,6 @@ public:
   // s s^T, s their sum); the origin is inside the cell, so every tetrahedron counts positive.
   // Each face is walked once, from an edge not yet walked.
   CellMoments<3> moments() const {
-    CellMoments<3> out;
     Vec<3> m1 = Vec<3>::Zero();
     Tensor<3> m2 = Tensor<3>::Zero();
     double sixVolume = 0.0;
@@ -251,11 +257,7 @@ public:
           m2 += (V6 / 120.0) * (p0p0 + a * a.transpose() + b * b.transpose() + s * s.transpose());
         }
       }
-    out.volume = sixVolume / 6.0;
-    if (out.volume <= 0.0) return out;
-    out.centroid = m1 / out.volume;
-    out.second = m2 / out.volume - out.centroid * out.centroid.transpose();
-    return out;
+    return cellMoments<3>(sixVolume / 6.0, m1, m2);
   }
 
 private:
@@ -286,12 +288,13 @@ private:
 // K n -K is bounded wherever some neighbor lies on one side or the other, and continuous in the
 // positions; where K is already symmetric (a lattice's interior) it is K, and a lattice's face,
 // edge and corner particles get the interior's cell. The same offsets in the same order give the
-// same bits. `order` is scratch. The cell starts as the box |x_k| <= halfWidth. Returns
+// same bits. The cell starts as the box |x_k| <= halfWidth. Returns
 // false where the cell stays open (no neighbor on either side along some direction: a single
 // layer, a lone particle); its moments are then not meaningful.
 template <int Dim, class Offsets>
-bool voronoiCell(VoronoiCell<Dim>& cell, const Offsets& d, double halfWidth,
-                 std::vector<std::pair<double, std::uint32_t>>& order) {
+bool voronoiCell(VoronoiCell<Dim>& cell, const Offsets& d, double halfWidth) {
+  thread_local std::vector<std::pair<double, std::uint32_t>> order; // (|d|^2, k) that can cut
+  thread_local std::vector<std::uint32_t> cut;                      // k that cut K
   cell.reset(halfWidth);
   order.clear();
   double r2Min = std::numeric_limits<double>::infinity();
@@ -305,7 +308,6 @@ bool voronoiCell(VoronoiCell<Dim>& cell, const Offsets& d, double halfWidth,
   // farthest corner), each pass in the offsets' order. No sort: the cell does not depend on the
   // order, and its bits depend on the offsets' order only. The neighbors that cut are kept:
   // K's faces are among them.
-  thread_local std::vector<std::uint32_t> cut;
   cut.clear();
   for (const auto& [r2, k] : order)
     if (r2 < 2.5 * r2Min && cell.clipByNeighbor(d[k])) cut.push_back(k);

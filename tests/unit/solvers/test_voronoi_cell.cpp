@@ -14,8 +14,6 @@ using namespace spall::solvers;
 
 namespace {
 
-std::vector<std::pair<double, std::uint32_t>> scratch;
-
 // The lattice points A k, k in {-3..3}^Dim without 0, that satisfy `keep`.
 template <int Dim, class Keep> std::vector<Vec<Dim>> lattice(const Tensor<Dim>& A, Keep keep) {
   std::vector<Vec<Dim>> out;
@@ -36,7 +34,7 @@ template <int Dim, class Keep> std::vector<Vec<Dim>> lattice(const Tensor<Dim>& 
 template <int Dim>
 CellMoments<Dim> cellOf(const std::vector<Vec<Dim>>& d, double halfWidth, bool* closed = nullptr) {
   VoronoiCell<Dim> cell;
-  const bool ok = voronoiCell<Dim>(cell, d, halfWidth, scratch);
+  const bool ok = voronoiCell<Dim>(cell, d, halfWidth);
   if (closed) *closed = ok;
   return cell.moments();
 }
