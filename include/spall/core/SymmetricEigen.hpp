@@ -1,8 +1,8 @@
 #pragma once
 // Eigen-decomposition of a small symmetric tensor, eigenvalues ascending with their unit
-// eigenvectors as columns (Eigen's convention). In 2D a closed form: the ASPH update takes three
-// per particle per step, and Eigen's general direct solver (scaling, branches) cost more than the
-// whole smoothing update around it. 1D and 3D use Eigen's direct solver.
+// eigenvectors as columns (Eigen's convention). In 2D a closed form: the ASPH update takes one or
+// two per particle per step, and Eigen's general direct solver (scaling, branches) cost more than
+// the whole smoothing update around it. 1D and 3D use Eigen's direct solver.
 #include "spall/core/Types.hpp"
 
 #include <algorithm>

@@ -57,8 +57,8 @@ double idealH(double h, double factor, double m, double rho, const SmoothingLimi
 // on a cubic one at n_h 1.5 it pushed back the wrong way: round ellipsoids grew ~11% per step
 // along a body diagonal, to an axis ratio of 2.41 everywhere within a few hundred steps. The cell
 // depends on positions alone, with no feedback through H, and continuously on them.
-// Where the cell stays open (no neighbor on some side, closure failed: cell == nullptr) the shape
-// is kept and only the size changes.
+// Where the cell stays open (no neighbor on either side along some direction: cellSecond ==
+// nullptr) the shape is kept and only the size changes.
 // Limits: h_min <= every axis <= h_max, the longest axis <= h_max_ratio n_h (m/rho)^(1/nu) (as
 // for SPH), and longest/shortest <= max_aspect_ratio. Updates H in place, and h to its longest
 // axis 1/lambda_min(H) (the reach of the neighbor search). factor: sizeFactor(n_h of the last
