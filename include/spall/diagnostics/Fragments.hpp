@@ -15,6 +15,7 @@
 // any rank count; along a periodic axis the centre agrees to round-off. The totals
 // meet on rank 0, which writes the catalogue. No rank ever holds all particles.
 #include "spall/core/Types.hpp"
+#include "spall/diagnostics/OrderFreeSums.hpp"
 #include "spall/neighbors/NeighborList.hpp"
 
 #include <mpi.h>
@@ -37,26 +38,6 @@ template <int Dim> struct FragmentInput {
   std::size_t owned = 0;                          // the first `owned` rows are this rank's
   const neighbors::NeighborList* pairs = nullptr; // of the owned rows; other indices are skipped
   std::array<double, Dim> period{};               // periodic box length per axis (0: not periodic)
-};
-
-__extension__ using Int128 = __int128; // GCC and clang
-
-// Exact, order-independent sums of one quantity (masses, momenta, first moments): each term is
-// rounded once to a multiple of 2^-E, E chosen so that the largest magnitude of the run (largest)
-// is below 2^62, and summed in 128-bit integers (room for 2^64 particles). Terms below 2^-62 of
-// the largest lose their last bits identically on every rank count.
-class FixedPoint {
-public:
-  explicit FixedPoint(double largest = 1.0) {
-    int e = 0;
-    std::frexp(largest > 0.0 ? largest : 1.0, &e); // largest < 2^e
-    E_ = 62 - e;
-  }
-  Int128 of(double m) const { return static_cast<Int128>(std::llround(std::ldexp(m, E_))); }
-  double value(Int128 q) const { return std::ldexp(static_cast<double>(q), -E_); }
-
-private:
-  int E_ = 0;
 };
 
 struct Fragment {

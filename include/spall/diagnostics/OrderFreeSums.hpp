@@ -1,9 +1,9 @@
 #pragma once
 // Sums of per-particle terms that do not depend on the terms' order: each quantity's terms are
 // scaled by the power of two that brings its largest magnitude over all ranks below 2^62,
-// truncated to 64-bit integers and added exactly in 128 bits, on every rank and then over all
-// ranks. So the totals are the same bit for bit however the particles are stored, on any number
-// of ranks and threads (a rank's storage order changes when particles migrate or are sorted,
+// rounded to 64-bit integers and added exactly in 128 bits (FixedPoint), on every rank and then
+// over all ranks. So the totals are the same bit for bit however the particles are stored, on any
+// number of ranks and threads (a rank's storage order changes when particles migrate or are sorted,
 // which kept neighbor lists make depend on the run's history). Each term keeps 62 bits relative
 // to the largest: finer than a double sum's rounding (a quantity with one nonzero term is that
 // term exactly). A quantity with a non-finite term is summed as plain doubles (the run's
@@ -21,12 +21,30 @@ namespace spall::diagnostics {
 
 __extension__ typedef __int128 Int128; // GCC's and Clang's 128-bit integer
 
+// Exact, order-independent sums of one quantity: each term is rounded once to a multiple of
+// 2^-E, E chosen so that the largest magnitude (over all ranks) is below 2^62, and summed in
+// 128-bit integers (room for 2^64 terms). Terms below 2^-62 of the largest lose their last bits
+// identically on every rank count; a single nonzero term comes back exactly.
+class FixedPoint {
+public:
+  explicit FixedPoint(double largest = 1.0) {
+    int e = 0;
+    std::frexp(largest > 0.0 ? largest : 1.0, &e); // largest < 2^e
+    E_ = 62 - e;
+  }
+  Int128 of(double x) const { return static_cast<Int128>(std::llround(std::ldexp(x, E_))); }
+  double value(Int128 q) const { return std::ldexp(static_cast<double>(q), -E_); }
+
+private:
+  int E_ = 0;
+};
+
 // `count` quantities over n terms: terms(i, t) writes term i of each quantity into t (a span of
 // `count`); the totals, the same on every rank.
 template <class Terms>
 std::vector<double> orderFreeSums(std::size_t n, std::size_t count, const Terms& terms,
                                   MPI_Comm comm) {
-  std::vector<double> largest(count, 0.0), t(count, 0.0), scale(count, 0.0), plain(count, 0.0);
+  std::vector<double> largest(count, 0.0), t(count, 0.0), plain(count, 0.0);
   const std::span<double> term(t);
   for (std::size_t i = 0; i < n; ++i) {
     terms(i, term);
@@ -34,17 +52,16 @@ std::vector<double> orderFreeSums(std::size_t n, std::size_t count, const Terms&
   }
   const int c = static_cast<int>(count);
   MPI_Allreduce(MPI_IN_PLACE, largest.data(), c, MPI_DOUBLE, MPI_MAX, comm);
-  for (std::size_t q = 0; q < count; ++q) {
-    int e = 0;
-    if (std::isfinite(largest[q]) && largest[q] > 0.0) std::frexp(largest[q], &e); // < 2^e
-    scale[q] = std::isfinite(largest[q]) ? std::ldexp(1.0, 62 - e) : 0.0;
-  }
+  std::vector<FixedPoint> scale(count);
+  std::vector<std::uint8_t> exact(count, 0); // finite: summed in fixed point
+  for (std::size_t q = 0; q < count; ++q)
+    if (std::isfinite(largest[q])) exact[q] = 1, scale[q] = FixedPoint(largest[q]);
   std::vector<Int128> fixed(count, 0);
   for (std::size_t i = 0; i < n; ++i) {
     terms(i, term);
     for (std::size_t q = 0; q < count; ++q) {
-      if (scale[q] > 0.0)
-        fixed[q] += static_cast<std::int64_t>(t[q] * scale[q]);
+      if (exact[q])
+        fixed[q] += scale[q].of(t[q]);
       else
         plain[q] += t[q];
     }
@@ -57,13 +74,13 @@ std::vector<double> orderFreeSums(std::size_t n, std::size_t count, const Terms&
   MPI_Allreduce(MPI_IN_PLACE, plain.data(), c, MPI_DOUBLE, MPI_SUM, comm);
   std::vector<double> out(count, 0.0);
   for (std::size_t q = 0; q < count; ++q) {
-    if (!(scale[q] > 0.0)) {
+    if (!exact[q]) {
       out[q] = plain[q];
       continue;
     }
     Int128 sum = 0;
     for (int r = 0; r < ranks; ++r) sum += all[static_cast<std::size_t>(r) * count + q];
-    out[q] = static_cast<double>(sum) / scale[q];
+    out[q] = scale[q].value(sum);
   }
   return out;
 }
