@@ -192,6 +192,21 @@ template <int Dim> void Simulation<Dim>::resolveOutputFields() {
       outputFields_.insert(outputFields_.begin(), must);
 }
 
+namespace {
+// The /grid datasets: each node's lattice index, place, mass, centre-of-mass velocity, the
+// stress's force and its count of velocity fields (solvers/GridNodes.hpp).
+template <int Dim>
+std::vector<io::SnapshotField> gridSnapshotFields(const solvers::GridNodes<Dim>& g) {
+  const std::vector<int> vec{Dim};
+  return {{{"index", ScalarType::I64, vec, kOutput}, g.index.data()},
+          {{"position", ScalarType::F64, vec, kOutput}, g.x.data()},
+          {{"mass", ScalarType::F64, {}, kOutput}, g.mass.data()},
+          {{"velocity", ScalarType::F64, vec, kOutput}, g.velocity.data()},
+          {{"force", ScalarType::F64, vec, kOutput}, g.force.data()},
+          {{"fields", ScalarType::I32, {}, kOutput}, g.fields.data()}};
+}
+} // namespace
+
 template <int Dim> bool Simulation<Dim>::snapshotDue() const {
   if (deck_.output.every_steps > 0 && step_ % deck_.output.every_steps == 0) return true;
   return deck_.output.every > 0.0 && time_ >= nextSnapshotTime_ * (1.0 - 1e-12);
@@ -256,15 +271,25 @@ template <int Dim> void Simulation<Dim>::writeSnapshot(bool write) {
       }
       infos.push_back(fields.back().info);
     }
+    std::vector<io::SnapshotGroup> groups{{"particles", n, fields}};
+    std::vector<io::XdmfPoints> sets{{"particles", mpi_.sum(static_cast<std::uint64_t>(n)), infos}};
+    // MPM's grid (output.grid): its nodes as a second group of rows.
+    solvers::GridNodes<Dim> grid;
+    std::vector<io::SnapshotField> gridFields;
+    std::vector<FieldInfo> gridInfos;
+    if (deck_.output.grid) {
+      grid = method_->gridNodes();
+      gridFields = gridSnapshotFields(grid);
+      for (const auto& g : gridFields) gridInfos.push_back(g.info);
+      groups.push_back({"grid", grid.size(), gridFields});
+      sets.push_back({"grid", mpi_.sum(static_cast<std::uint64_t>(grid.size())), gridInfos});
+    }
     const std::string base = fmt::format("snap_{:06d}", snapshotIndex_);
     const fs::path snapDir = dir_ / "snapshots";
     io::writeSnapshot(mpi_.comm(), (snapDir / (base + ".h5")).string(),
-                      {time_, step_, Dim, BuildInfo::version()}, n, fields);
-    const std::uint64_t global = mpi_.sum(static_cast<std::uint64_t>(n));
-    if (mpi_.root()) {
-      io::writeSnapshotXdmf((snapDir / (base + ".xmf")).string(), base + ".h5", time_, global, Dim,
-                            infos);
-    }
+                      {time_, step_, Dim, BuildInfo::version()}, groups);
+    if (mpi_.root())
+      io::writeSnapshotXdmf((snapDir / (base + ".xmf")).string(), base + ".h5", time_, Dim, sets);
     advanceSnapshotClock(base);
     if (mpi_.root()) io::writeSeriesXdmf((snapDir / "series.xmf").string(), series_);
   });

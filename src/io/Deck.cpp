@@ -83,7 +83,8 @@ private:
   // The index of the body `name` names (key `key` of r), or a DeckError with a did-you-mean.
   std::int32_t bodyIndex(const TableReader& r, std::string_view key, const std::string& name,
                          const std::vector<BodyConfig>& bodies) const;
-  void readOutput(const TableReader& r, OutputConfig& o, double endTime) const;
+  void readOutput(const TableReader& r, OutputConfig& o, double endTime,
+                  const std::string& method) const;
   void readCheckpoint(const TableReader& r, CheckpointConfig& c) const;
   void readFragments(const TableReader& r, FragmentsConfig& c, const SolverConfig& s) const;
   void readPenetration(const TableReader& r, PenetrationConfig& c,
@@ -173,7 +174,8 @@ void DeckReader::read(Deck& deck) {
 
   const toml::table* output = top.subtable("output");
   if (!output) throw DeckError(start, "missing required table [output]");
-  readOutput(reader(*output, Context{}.child("output")), deck.output, deck.run.end_time);
+  readOutput(reader(*output, Context{}.child("output")), deck.output, deck.run.end_time,
+             deck.solver.method);
   if (const auto* t = top.subtable("checkpoint"))
     readCheckpoint(reader(*t, Context{}.child("checkpoint")), deck.checkpoint.emplace());
   if (const auto* t = top.subtable("fragments"))
@@ -407,7 +409,8 @@ void DeckReader::readBoundary(const TableReader& r, BoundaryConfig& b,
   }
 }
 
-void DeckReader::readOutput(const TableReader& r, OutputConfig& o, double endTime) const {
+void DeckReader::readOutput(const TableReader& r, OutputConfig& o, double endTime,
+                            const std::string& method) const {
   r.allowOnly(*dd::schemaKeys("output"));
   o.where = r.where();
   o.directory = r.required(r.string("directory"), "directory");
@@ -420,6 +423,12 @@ void DeckReader::readOutput(const TableReader& r, OutputConfig& o, double endTim
   o.every_steps = r.integer("every_steps").value_or(0);
   r.check(o.every_steps >= 0, "every_steps", ">= 0", static_cast<double>(o.every_steps));
   o.fields = r.strings("fields").value_or(std::vector<std::string>{});
+  o.grid = r.boolean("grid").value_or(false);
+  if (o.grid && method != "mpm")
+    r.fail("grid", r.quoted("grid") +
+                       " writes MPM's background grid: it needs solver.method = "
+                       "\"mpm\" (this run's is \"" +
+                       method + "\")");
   o.history_every_steps = r.integer("history_every_steps").value_or(1);
   r.check(o.history_every_steps >= 1, "history_every_steps", ">= 1",
           static_cast<double>(o.history_every_steps));

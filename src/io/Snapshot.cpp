@@ -33,14 +33,9 @@ void writeField(hid_t group, hid_t dxpl, const SnapshotField& f, std::uint64_t g
 }
 
 void writeFile(MPI_Comm comm, const std::string& tmp, const SnapshotAttributes& attrs,
-               std::size_t localCount, std::span<const SnapshotField> fields) {
-  std::uint64_t local = localCount, offset = 0, global = 0;
-  MPI_Exscan(&local, &offset, 1, MPI_UINT64_T, MPI_SUM, comm);
+               std::span<const SnapshotGroup> groups) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  if (rank == 0) offset = 0; // MPI_Exscan leaves rank 0's result undefined
-  MPI_Allreduce(&local, &global, 1, MPI_UINT64_T, MPI_SUM, comm);
-
   Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, tmp, "H5Pcreate");
   check(H5Pset_fapl_mpio(fapl, comm, MPI_INFO_NULL), tmp, "H5Pset_fapl_mpio");
   Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl), H5Fclose, tmp, "H5Fcreate");
@@ -50,22 +45,75 @@ void writeFile(MPI_Comm comm, const std::string& tmp, const SnapshotAttributes& 
   writeScalarAttribute(file, "dimension", H5T_STD_I32LE, H5T_NATIVE_INT, &attrs.dimension, tmp);
   writeStringAttribute(file, "spall_version", attrs.version, tmp);
 
-  Handle group(H5Gcreate2(file, "particles", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, tmp,
-               "H5Gcreate2(particles)");
   Handle dxpl(H5Pcreate(H5P_DATASET_XFER), H5Pclose, tmp, "H5Pcreate");
   check(H5Pset_dxpl_mpio(dxpl, H5FD_MPIO_COLLECTIVE), tmp, "H5Pset_dxpl_mpio");
-  for (const auto& f : fields) writeField(group, dxpl, f, global, offset, localCount, tmp);
-  group.close(tmp, "H5Gclose");
+  for (const auto& g : groups) {
+    std::uint64_t local = g.localCount, offset = 0, global = 0;
+    MPI_Exscan(&local, &offset, 1, MPI_UINT64_T, MPI_SUM, comm);
+    if (rank == 0) offset = 0; // MPI_Exscan leaves rank 0's result undefined
+    MPI_Allreduce(&local, &global, 1, MPI_UINT64_T, MPI_SUM, comm);
+    Handle group(H5Gcreate2(file, g.name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
+                 tmp, ("H5Gcreate2(" + g.name + ")").c_str());
+    for (const auto& f : g.fields) writeField(group, dxpl, f, global, offset, g.localCount, tmp);
+    group.close(tmp, "H5Gclose");
+  }
   file.close(tmp, "H5Fclose");
+}
+
+// Every dataset of a group, its first axis the rows.
+SnapshotTable readGroup(hid_t file, const std::string& name, const std::string& path,
+                        std::vector<std::uint64_t>* id) {
+  SnapshotTable out;
+  Handle group(H5Gopen2(file, name.c_str(), H5P_DEFAULT), H5Gclose, path,
+               ("H5Gopen2(" + name + ")").c_str());
+  H5G_info_t info;
+  check(H5Gget_info(group, &info), path, "H5Gget_info");
+  bool first = true;
+  for (hsize_t i = 0; i < info.nlinks; ++i) {
+    const std::string field = hdf5::linkName(group, i, path);
+    const std::string where = "/" + name + "/" + field;
+
+    Handle dset(H5Dopen2(group, field.c_str(), H5P_DEFAULT), H5Dclose, path,
+                ("H5Dopen2(" + where + ")").c_str());
+    Handle space(H5Dget_space(dset), H5Sclose, path, "H5Dget_space");
+    const int rank = H5Sget_simple_extent_ndims(space);
+    if (rank < 1) throw RunError(path + ": dataset " + where + " has no row axis");
+    std::vector<hsize_t> dims(static_cast<std::size_t>(rank));
+    H5Sget_simple_extent_dims(space, dims.data(), nullptr);
+    if (first) out.count = dims[0];
+    if (dims[0] != out.count)
+      throw RunError(path + ": dataset " + where + " has " + std::to_string(dims[0]) +
+                     " rows, expected " + std::to_string(out.count));
+    first = false;
+
+    std::size_t n = 1;
+    auto& shape = out.shapes[field];
+    for (int d = 0; d < rank; ++d) {
+      n *= dims[static_cast<std::size_t>(d)];
+      if (d > 0) shape.push_back(static_cast<int>(dims[static_cast<std::size_t>(d)]));
+    }
+    auto& values = out.fields[field];
+    values.resize(n);
+    if (n > 0)
+      check(H5Dread(dset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), path,
+            ("H5Dread(" + where + ")").c_str());
+    if (id && field == "id") {
+      id->resize(n);
+      if (n > 0)
+        check(H5Dread(dset, H5T_NATIVE_UINT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, id->data()), path,
+              "H5Dread(id)");
+    }
+  }
+  return out;
 }
 
 } // namespace
 
 void writeSnapshot(MPI_Comm comm, const std::string& path, const SnapshotAttributes& attrs,
-                   std::size_t localCount, std::span<const SnapshotField> fields) {
+                   std::span<const SnapshotGroup> groups) {
   hdf5::Quiet quiet;
   const std::string tmp = path + ".tmp";
-  writeFile(comm, tmp, attrs, localCount, fields);
+  writeFile(comm, tmp, attrs, groups);
 
   // Every rank has closed the file (H5Fclose is collective); rank 0 publishes it, and the
   // broadcast of the outcome keeps the other ranks from returning before the rename.
@@ -78,6 +126,12 @@ void writeSnapshot(MPI_Comm comm, const std::string& path, const SnapshotAttribu
   if (!ok) throw RunError(path + ": cannot rename " + tmp + " to it");
 }
 
+void writeSnapshot(MPI_Comm comm, const std::string& path, const SnapshotAttributes& attrs,
+                   std::size_t localCount, std::span<const SnapshotField> fields) {
+  const SnapshotGroup particles{"particles", localCount, fields};
+  writeSnapshot(comm, path, attrs, std::span<const SnapshotGroup>(&particles, 1));
+}
+
 SnapshotData readSnapshot(const std::string& path) {
   hdf5::Quiet quiet;
   SnapshotData out;
@@ -87,43 +141,15 @@ SnapshotData readSnapshot(const std::string& path) {
   out.dimension = readScalarAttribute<int>(file, "dimension", H5T_NATIVE_INT, path);
   out.version = readStringAttribute(file, "spall_version", path);
 
-  Handle group(H5Gopen2(file, "particles", H5P_DEFAULT), H5Gclose, path, "H5Gopen2(particles)");
+  SnapshotTable particles = readGroup(file, "particles", path, &out.id);
+  out.count = particles.count;
+  out.fields = std::move(particles.fields);
+  out.shapes = std::move(particles.shapes);
   H5G_info_t info;
-  check(H5Gget_info(group, &info), path, "H5Gget_info");
-  bool first = true;
+  check(H5Gget_info(file, &info), path, "H5Gget_info");
   for (hsize_t i = 0; i < info.nlinks; ++i) {
-    const std::string name = hdf5::linkName(group, i, path);
-
-    Handle dset(H5Dopen2(group, name.c_str(), H5P_DEFAULT), H5Dclose, path,
-                ("H5Dopen2(" + name + ")").c_str());
-    Handle space(H5Dget_space(dset), H5Sclose, path, "H5Dget_space");
-    const int rank = H5Sget_simple_extent_ndims(space);
-    if (rank < 1) throw RunError(path + ": dataset /particles/" + name + " has no particle axis");
-    std::vector<hsize_t> dims(static_cast<std::size_t>(rank));
-    H5Sget_simple_extent_dims(space, dims.data(), nullptr);
-    if (first) out.count = dims[0];
-    if (dims[0] != out.count)
-      throw RunError(path + ": dataset /particles/" + name + " has " + std::to_string(dims[0]) +
-                     " rows, expected " + std::to_string(out.count));
-    first = false;
-
-    std::size_t n = 1;
-    auto& shape = out.shapes[name];
-    for (int d = 0; d < rank; ++d) {
-      n *= dims[static_cast<std::size_t>(d)];
-      if (d > 0) shape.push_back(static_cast<int>(dims[static_cast<std::size_t>(d)]));
-    }
-    auto& values = out.fields[name];
-    values.resize(n);
-    if (n > 0)
-      check(H5Dread(dset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), path,
-            ("H5Dread(" + name + ")").c_str());
-    if (name == "id") {
-      out.id.resize(n);
-      if (n > 0)
-        check(H5Dread(dset, H5T_NATIVE_UINT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.id.data()), path,
-              "H5Dread(id)");
-    }
+    const std::string name = hdf5::linkName(file, i, path);
+    if (name != "particles") out.groups[name] = readGroup(file, name, path, nullptr);
   }
   return out;
 }

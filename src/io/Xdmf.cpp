@@ -74,10 +74,11 @@ XdmfShape xdmfShape(const std::vector<int>& shape) {
   return {"Matrix", {n}};
 }
 
-std::string hdfItem(const std::string& h5, const FieldInfo& f, const std::vector<int>& shape,
-                    std::size_t n, const std::string& indent) {
+std::string hdfItem(const std::string& h5, const std::string& group, const FieldInfo& f,
+                    const std::vector<int>& shape, std::size_t n, const std::string& indent) {
   return indent + "<DataItem Dimensions=\"" + dimensions(n, shape) + "\" " + numberType(f.scalar) +
-         " Format=\"HDF\">" + escape(h5) + ":/particles/" + escape(f.name) + "</DataItem>\n";
+         " Format=\"HDF\">" + escape(h5) + ":/" + escape(group) + "/" + escape(f.name) +
+         "</DataItem>\n";
 }
 
 // Writes path.tmp, then renames it over path.
@@ -106,42 +107,64 @@ const char* kHeader = "<?xml version=\"1.0\" ?>\n";
 } // namespace
 
 void writeSnapshotXdmf(const std::string& xmfPath, const std::string& h5FileName, double time,
-                       std::size_t globalCount, int dimension, std::span<const FieldInfo> fields) {
-  const auto pos = std::find_if(fields.begin(), fields.end(),
-                                [](const FieldInfo& f) { return f.name == "position"; });
-  if (pos == fields.end())
-    throw RunError("cannot describe " + h5FileName + " in XDMF: it has no position field");
-  const std::string n = std::to_string(globalCount);
-
+                       int dimension, std::span<const XdmfPoints> sets) {
+  const bool collection = sets.size() > 1;
+  const std::string in = collection ? "   " : "  "; // a grid's indent
   std::ostringstream x;
   x << kHeader << "<Xdmf Version=\"2.0\">\n <Domain>\n";
-  x << "  <Grid Name=\"particles\" GridType=\"Uniform\">\n";
-  x << "   <Time Value=\"" << formatTime(time) << "\"/>\n";
-  x << "   <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n
-    << "\" NodesPerElement=\"1\"/>\n";
-  if (dimension == 1) {
-    // XDMF has no X-only geometry. X_Y_Z takes three N-vectors: x is the position dataset and
-    // y = z = 0 * x, a Function of it, so no zeros are stored anywhere.
-    x << "   <Geometry GeometryType=\"X_Y_Z\">\n"
-      << hdfItem(h5FileName, *pos, pos->shape, globalCount, "    ");
-    for (int k = 0; k < 2; ++k) {
-      x << "    <DataItem ItemType=\"Function\" Function=\"0 * $0\" Dimensions=\"" << n << " 1\">\n"
-        << hdfItem(h5FileName, *pos, pos->shape, globalCount, "     ") << "    </DataItem>\n";
+  if (collection)
+    x << "  <Grid Name=\"snapshot\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
+      << "   <Time Value=\"" << formatTime(time) << "\"/>\n";
+  for (const auto& set : sets) {
+    const auto& fields = set.fields;
+    const auto pos = std::find_if(fields.begin(), fields.end(),
+                                  [](const FieldInfo& f) { return f.name == "position"; });
+    if (pos == fields.end())
+      throw RunError("cannot describe " + h5FileName + " in XDMF: its /" + set.group +
+                     " has no position field");
+    const std::size_t count = set.globalCount;
+    const std::string n = std::to_string(count);
+    const auto item = [&](const FieldInfo& f, const std::vector<int>& shape,
+                          const std::string& indent) {
+      return hdfItem(h5FileName, set.group, f, shape, count, indent);
+    };
+    x << in << "<Grid Name=\"" << escape(set.group) << "\" GridType=\"Uniform\">\n";
+    if (!collection) x << in << " <Time Value=\"" << formatTime(time) << "\"/>\n";
+    x << in << " <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n
+      << "\" NodesPerElement=\"1\"/>\n";
+    if (dimension == 1) {
+      // XDMF has no X-only geometry. X_Y_Z takes three N-vectors: x is the position dataset and
+      // y = z = 0 * x, a Function of it, so no zeros are stored anywhere.
+      x << in << " <Geometry GeometryType=\"X_Y_Z\">\n" << item(*pos, pos->shape, in + "  ");
+      for (int k = 0; k < 2; ++k) {
+        x << in << "  <DataItem ItemType=\"Function\" Function=\"0 * $0\" Dimensions=\"" << n
+          << " 1\">\n"
+          << item(*pos, pos->shape, in + "   ") << in << "  </DataItem>\n";
+      }
+    } else {
+      x << in << " <Geometry GeometryType=\"" << (dimension == 2 ? "XY" : "XYZ") << "\">\n"
+        << item(*pos, pos->shape, in + "  ");
     }
-  } else {
-    x << "   <Geometry GeometryType=\"" << (dimension == 2 ? "XY" : "XYZ") << "\">\n"
-      << hdfItem(h5FileName, *pos, pos->shape, globalCount, "    ");
+    x << in << " </Geometry>\n";
+    for (const auto& f : fields) {
+      if (f.name == "position") continue; // it is the geometry
+      const XdmfShape xs = xdmfShape(f.shape);
+      x << in << " <Attribute Name=\"" << escape(f.name) << "\" AttributeType=\"" << xs.type
+        << "\" Center=\"Node\">\n"
+        << item(f, xs.dims, in + "  ") << in << " </Attribute>\n";
+    }
+    x << in << "</Grid>\n";
   }
-  x << "   </Geometry>\n";
-  for (const auto& f : fields) {
-    if (f.name == "position") continue; // it is the geometry
-    const XdmfShape xs = xdmfShape(f.shape);
-    x << "   <Attribute Name=\"" << escape(f.name) << "\" AttributeType=\"" << xs.type
-      << "\" Center=\"Node\">\n"
-      << hdfItem(h5FileName, f, xs.dims, globalCount, "    ") << "   </Attribute>\n";
-  }
-  x << "  </Grid>\n </Domain>\n</Xdmf>\n";
+  if (collection) x << "  </Grid>\n";
+  x << " </Domain>\n</Xdmf>\n";
   writeAtomically(xmfPath, x.str());
+}
+
+void writeSnapshotXdmf(const std::string& xmfPath, const std::string& h5FileName, double time,
+                       std::size_t globalCount, int dimension, std::span<const FieldInfo> fields) {
+  const XdmfPoints particles{"particles", globalCount, fields};
+  writeSnapshotXdmf(xmfPath, h5FileName, time, dimension,
+                    std::span<const XdmfPoints>(&particles, 1));
 }
 
 void writeSeriesXdmf(const std::string& seriesPath,

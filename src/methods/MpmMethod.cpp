@@ -340,6 +340,15 @@ template <int Dim> void MpmMethod<Dim>::idOrder() {
             [&id](std::uint32_t a, std::uint32_t b) { return id[a] < id[b]; });
 }
 
+// The grid a step from this state would make (P2G on its nodes), whether or not one follows:
+// the same at t = 0, after a restart and on any rank count.
+template <int Dim> solvers::GridNodes<Dim> MpmMethod<Dim>::gridNodes() {
+  if (!grid_) makeGrid();
+  exchangeHalo();
+  idOrder();
+  return grid_->snapshot(particles(), order_);
+}
+
 template <int Dim> void MpmMethod<Dim>::save(io::CheckpointState& st) const {
   Base::save(st);
   st.reals["mpm_grid_origin"] = std::vector<double>(origin_.data(), origin_.data() + Dim);

@@ -49,23 +49,17 @@ public:
       rigid_.assign(N, 0), rigidV_.assign(N, Vec<Dim>::Zero());
     else
       rigid_.clear();
-    const bool solid = !P.S.empty(), viscous = !P.q.empty(), affine = !P.affine.empty();
+    const bool affine = !P.affine.empty();
     if (affine) { // each node's place (with contact, each field's)
       X_.resize(N);
       for (std::size_t I = 0; I < N; ++I) X_[I] = place(key_[lattice(I)]);
     }
     for (const std::uint32_t r : order) {
-      const double p = viscous ? P.p[r] + P.q[r] : P.p[r];
-      Tensor<Dim> sigma = -p * Tensor<Dim>::Identity();
-      if (solid) sigma += P.S[r].template topLeftCorner<Dim, Dim>();
+      const auto [sigma, hoop] = stress(P, r);
       const double V = P.m[r] / P.rho[r];
       const Vec<Dim> mv = P.m[r] * P.v[r];
       const Tensor<Dim> mC = affine ? Tensor<Dim>(P.m[r] * P.affine[r]) : Tensor<Dim>::Zero();
-      // rz: the hoop stress's share of the radial force, sigma_tt S / r (the weak form's
-      // 2 pi r dA is in the ring's mass and volume).
-      Vec<Dim> hoop = Vec<Dim>::Zero();
       const double rp = rz_ ? radius(P, r) : 1.0;
-      if (rz_) hoop[0] = ((solid ? P.S[r](2, 2) : 0.0) - p) / rp;
       for (std::size_t e = from(r); e < to(r); ++e) {
         const std::uint32_t I = node_[e];
         mass_[I] += S_[e] * P.m[r];
@@ -207,7 +201,68 @@ public:
     }
   }
 
+  GridNodes<Dim> snapshot(const MpmParticles<Dim>& P,
+                          std::span<const std::uint32_t> order) override {
+    connect(P, order.size());
+    const std::size_t N = fields(), nodes = key_.size();
+    mass_.assign(N, 0.0);
+    momentum_.assign(N, Vec<Dim>::Zero());
+    force_.assign(N, Vec<Dim>::Zero());
+    // Each lattice node's first row in id order with a weight there: 1 owned, 2 a ghost.
+    std::vector<std::uint8_t> first(nodes, 0);
+    for (const std::uint32_t r : order) {
+      const auto [sigma, hoop] = stress(P, r);
+      const double V = P.m[r] / P.rho[r];
+      const Vec<Dim> mv = P.m[r] * P.v[r];
+      for (std::size_t e = from(r); e < to(r); ++e) {
+        const std::uint32_t I = node_[e];
+        if (S_[e] > 0.0 && first[lattice(I)] == 0) first[lattice(I)] = r < P.owned ? 1 : 2;
+        mass_[I] += S_[e] * P.m[r];
+        momentum_[I] += S_[e] * mv;
+        force_[I] -= V * (sigma * grad_[e] + S_[e] * hoop);
+      }
+    }
+    std::vector<std::uint32_t> mine;
+    for (std::size_t L = 0; L < nodes; ++L)
+      if (first[L] == 1) mine.push_back(static_cast<std::uint32_t>(L));
+    std::sort(mine.begin(), mine.end(),
+              [this](std::uint32_t a, std::uint32_t b) { return key_[a] < key_[b]; });
+    GridNodes<Dim> g;
+    for (const std::uint32_t L : mine) {
+      double m = 0.0;
+      Vec<Dim> mv = Vec<Dim>::Zero(), f = Vec<Dim>::Zero();
+      std::int32_t present = 0;
+      // With contact, the node's fields in ascending order (numberFields), on every rank alike.
+      for (std::uint32_t I = multi_ ? head_[L] : L; I != kNone; I = multi_ ? next_[I] : kNone) {
+        m += mass_[I];
+        mv += momentum_[I];
+        f += force_[I];
+        present += mass_[I] > 0.0 ? 1 : 0;
+      }
+      g.index.push_back(key_[L]);
+      g.x.push_back(place(key_[L]));
+      g.mass.push_back(m);
+      g.velocity.push_back(mv / m);
+      g.force.push_back(f);
+      g.fields.push_back(present);
+    }
+    return g;
+  }
+
 private:
+  // A row's Cauchy stress (the Dim x Dim block of -(p + q) I + S) and, in rz, the hoop stress's
+  // share of the radial force per unit volume, sigma_tt / r (the weak form's 2 pi r dA is in the
+  // ring's mass and volume: Sulsky & Schreyer 1996).
+  std::pair<Tensor<Dim>, Vec<Dim>> stress(const MpmParticles<Dim>& P, std::size_t r) const {
+    const bool solid = !P.S.empty();
+    const double p = P.q.empty() ? P.p[r] : P.p[r] + P.q[r];
+    Tensor<Dim> sigma = -p * Tensor<Dim>::Identity();
+    if (solid) sigma += P.S[r].template topLeftCorner<Dim, Dim>();
+    Vec<Dim> hoop = Vec<Dim>::Zero();
+    if (rz_) hoop[0] = ((solid ? P.S[r](2, 2) : 0.0) - p) / radius(P, r);
+    return {sigma, hoop};
+  }
+
   // rz: a ring's radius at the step's start, and at least its box's half-width (a ring closer
   // to the axis than that lies on it; its mass, made at its first radius, would otherwise turn
   // sigma_tt / r and v_r / r infinite).

@@ -178,6 +178,7 @@ struct OutputConfig {
   double every = 0.0;              // s of simulated time between snapshots (0: not by time)
   std::int64_t every_steps = 0;    // steps between snapshots (0: not by steps)
   std::vector<std::string> fields; // empty: all present
+  bool grid = false;               // MPM: the background grid's nodes in every snapshot (/grid)
   std::int64_t history_every_steps = 1;
   // Progress in a batch log (a file or pipe): a line every so many wall seconds and at every so
   // many percent of the end time (0: not by percent). A terminal gets a line redrawn in place.

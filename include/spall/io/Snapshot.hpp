@@ -34,12 +34,29 @@ struct SnapshotAttributes {
   std::string version;
 };
 
-// Collective over comm: every rank passes the same field list (names, order, types, shapes)
-// with its own rows; rank r's rows go after those of ranks < r. Writes PATH.tmp and renames it
-// to PATH once complete, so a killed writer never leaves a complete-looking file. Throws
-// RunError naming the path and the failing HDF5 call.
+// A group of rows in the file: /particles, or MPM's /grid (a node per row).
+struct SnapshotGroup {
+  std::string name;
+  std::size_t localCount = 0;
+  std::span<const SnapshotField> fields;
+};
+
+// Collective over comm: every rank passes the same groups and field lists (names, order, types,
+// shapes) with its own rows; rank r's rows go after those of ranks < r. Writes PATH.tmp and
+// renames it to PATH once complete, so a killed writer never leaves a complete-looking file.
+// Throws RunError naming the path and the failing HDF5 call.
+void writeSnapshot(MPI_Comm comm, const std::string& path, const SnapshotAttributes& attrs,
+                   std::span<const SnapshotGroup> groups);
+// The particles alone.
 void writeSnapshot(MPI_Comm comm, const std::string& path, const SnapshotAttributes& attrs,
                    std::size_t localCount, std::span<const SnapshotField> fields);
+
+// A group's datasets, as doubles (integers exact below 2^53).
+struct SnapshotTable {
+  std::size_t count = 0;
+  std::map<std::string, std::vector<double>> fields;
+  std::map<std::string, std::vector<int>> shapes; // per-row shape of each dataset
+};
 
 struct SnapshotData {
   double time = 0.0;
@@ -50,6 +67,7 @@ struct SnapshotData {
   std::map<std::string, std::vector<double>> fields; // every /particles dataset, as doubles
   std::map<std::string, std::vector<int>> shapes;    // per-particle shape of each dataset
   std::vector<std::uint64_t> id;                     // /particles/id exactly (empty if absent)
+  std::map<std::string, SnapshotTable> groups;       // every other group (MPM's "grid")
 };
 
 // Serial (no MPI needed). Integer datasets are converted to double, exact below 2^53.

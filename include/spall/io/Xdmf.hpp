@@ -12,8 +12,19 @@
 
 namespace spall::io {
 
-// `fields` are the datasets of /particles in h5FileName (a path relative to the .xmf); one of
-// them must be "position". Written atomically (tmp file, then rename).
+// A group of h5FileName's rows as a point set: `fields` its datasets, one of them "position".
+struct XdmfPoints {
+  std::string group; // "particles", "grid"
+  std::size_t globalCount = 0;
+  std::span<const FieldInfo> fields;
+};
+
+// h5FileName is a path relative to the .xmf. One set is a grid of its own; several are a
+// spatial collection (ParaView: a multiblock, a block per set) at the snapshot's time, so the
+// series still sees one grid per time. Written atomically (tmp file, then rename).
+void writeSnapshotXdmf(const std::string& xmfPath, const std::string& h5FileName, double time,
+                       int dimension, std::span<const XdmfPoints> sets);
+// The particles alone.
 void writeSnapshotXdmf(const std::string& xmfPath, const std::string& h5FileName, double time,
                        std::size_t globalCount, int dimension, std::span<const FieldInfo> fields);
 

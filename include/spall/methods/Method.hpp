@@ -7,6 +7,7 @@
 #include "spall/io/Checkpoint.hpp"
 #include "spall/methods/Module.hpp"
 #include "spall/methods/StepStats.hpp"
+#include "spall/solvers/GridNodes.hpp"
 
 #include <array>
 #include <cstdint>
@@ -42,6 +43,9 @@ public:
   // confining pressure, damping): what the total energy and momentum are expected to have gained.
   virtual double externalWork() const = 0;
   virtual std::array<double, 3> externalImpulse() const = 0;
+  // MPM's background grid of the state now (collective), the nodes this rank writes in a
+  // snapshot; a method without a grid has none.
+  virtual solvers::GridNodes<Dim> gridNodes() { return {}; }
   // The kernel support in units of h (probes sample within it).
   virtual double support() const = 0;
   virtual StepStats& stats() = 0;

@@ -26,6 +26,7 @@ public:
   // Probes and the penetration gauge sample within support() h: h is the particle's spacing
   // times nodes_per_h, as SPH's at the start.
   double support() const override { return 2.0; }
+  solvers::GridNodes<Dim> gridNodes() override;
   void save(io::CheckpointState& st) const override;
   void restore(const io::CheckpointState& st) override;
 

@@ -40,6 +40,7 @@
 // corrections conserve momentum exactly; with more, the node's momentum to the normals' spread.
 #include "spall/core/Types.hpp"
 #include "spall/solvers/Config.hpp"
+#include "spall/solvers/GridNodes.hpp"
 #include "spall/solvers/MpmShapes.hpp"
 
 #include <array>
@@ -92,6 +93,12 @@ public:
   // Dim x Dim block of L; the rest zero).
   virtual void velocityGradient(const MpmParticles<Dim>& P, std::span<const std::uint32_t> order,
                                 std::span<Tensor<3>> L) = 0;
+  // The grid of the state now, for a snapshot: P2G's sums (mass, momentum, the stress's force)
+  // on every node an owned row touches, of which this rank keeps the nodes whose first row in
+  // `order` with a weight there is owned: each node once over all ranks, summed as every rank
+  // holding its rows sums it. Replaces the last step's grid (the next project() makes its own).
+  virtual GridNodes<Dim> snapshot(const MpmParticles<Dim>& P,
+                                  std::span<const std::uint32_t> order) = 0;
   // Lattice nodes touched, for the statistics (the last project()).
   virtual std::size_t nodes() const = 0;
   // How far (per axis, m) a particle reaches its nodes' other particles, when no point's
