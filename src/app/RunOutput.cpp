@@ -217,6 +217,10 @@ template <int Dim> void Simulation<Dim>::writeSnapshot(bool write) {
     if (!write) return advanceSnapshotClock(fmt::format("snap_{:06d}", snapshotIndex_));
     if (deck_.fragments) writeFragments();
     if (penetration_) writePenetration();
+    // MPM's grid (output.grid) first: its ghosts may grow the store, and the particle fields
+    // below point into it.
+    solvers::GridNodes<Dim> grid;
+    if (deck_.output.grid) grid = method_->gridNodes();
     const std::size_t n = store_.localCount();
     std::vector<io::SnapshotField> fields;
     std::vector<FieldInfo> infos;
@@ -273,12 +277,10 @@ template <int Dim> void Simulation<Dim>::writeSnapshot(bool write) {
     }
     std::vector<io::SnapshotGroup> groups{{"particles", n, fields}};
     std::vector<io::XdmfPoints> sets{{"particles", mpi_.sum(static_cast<std::uint64_t>(n)), infos}};
-    // MPM's grid (output.grid): its nodes as a second group of rows.
-    solvers::GridNodes<Dim> grid;
+    // The grid's nodes as a second group of rows.
     std::vector<io::SnapshotField> gridFields;
     std::vector<FieldInfo> gridInfos;
     if (deck_.output.grid) {
-      grid = method_->gridNodes();
       gridFields = gridSnapshotFields(grid);
       for (const auto& g : gridFields) gridInfos.push_back(g.info);
       groups.push_back({"grid", grid.size(), gridFields});
