@@ -98,7 +98,7 @@ void Simulation<Dim>::explainFailure(const StepFailure& failure, Clock::time_poi
     }
     while (step_ < f.step) {
       checkpointOnce(dt);
-      const double dtTaken = clampToTargets(dt);
+      const double dtTaken = clampToTargets(dt).first;
       try {
         dt = stepOnce(dt, wall0, true);
       } catch (const StepFailure& again) {

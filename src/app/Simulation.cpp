@@ -395,9 +395,9 @@ template <int Dim> void Simulation<Dim>::run(const RunOptions& options, const fs
 // (RunFailure.cpp) steps again through steps already logged: no history rows.
 template <int Dim>
 double Simulation<Dim>::stepOnce(double dt, Clock::time_point wall0, bool replay) {
-  dt = clampToTargets(dt);
-  method_->advance(dt, step_, time_);
-  time_ += dt;
+  const auto [dtStep, timeAfter] = clampToTargets(dt);
+  method_->advance(dtStep, step_, time_);
+  time_ = timeAfter;
   ++step_;
   insertDueBodies();
   if (!replay) record(dt, step_, wall0);
@@ -411,17 +411,20 @@ template <int Dim> double Simulation<Dim>::nextTimeStep() {
 }
 
 // Shortens dt so that snapshot times and the end time are hit exactly; splits the last two
-// steps before a target evenly rather than leaving a sliver.
-template <int Dim> double Simulation<Dim>::clampToTargets(double dt) const {
+// steps before a target evenly rather than leaving a sliver. Returns the step and the time after
+// it: a step that ends on a target ends on it exactly (time + (target - time) can miss it by an
+// ulp), so that a chain whose end time is an output time of a longer run takes that run's
+// steps from there bit for bit.
+template <int Dim> std::pair<double, double> Simulation<Dim>::clampToTargets(double dt) const {
   double target = deck_.run.end_time;
   if (deck_.output.every > 0.0) target = std::min(target, nextSnapshotTime_);
   for (std::size_t b = 0; b < waiting_.size(); ++b)
     if (waiting_[b]) target = std::min(target, deck_.bodies[b].insert_time);
   const double left = target - time_;
-  if (left <= 0.0) return dt;
-  if (dt >= left) return left;
-  if (1.5 * dt > left) return 0.5 * left;
-  return dt;
+  if (left <= 0.0) return {dt, time_ + dt};
+  if (dt >= left) return {left, target};
+  if (1.5 * dt > left) return {0.5 * left, time_ + 0.5 * left};
+  return {dt, time_ + dt};
 }
 
 // Bodies whose insert_time has come join the run (the step before was shortened to end on it):

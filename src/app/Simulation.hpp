@@ -66,7 +66,7 @@ private:
   // Simulation.cpp: the loop
   double stepOnce(double dt, Clock::time_point wall0, bool replay);
   double nextTimeStep();
-  double clampToTargets(double dt) const;
+  std::pair<double, double> clampToTargets(double dt) const;
   void insertDueBodies();
   void checkpoint(double dtNext, Clock::time_point wall0);
   int checkpointKeep() const { return deck_.checkpoint ? deck_.checkpoint->keep : 2; }
