@@ -98,6 +98,8 @@ CASES = [("sod_1d.toml", []), ("rod_impact_copper.toml", ["run.end_time=6e-6"]),
          # ... CPDI: each point's nodes those of its domain's corners, the halo as wide as the
          # most stretched domain reaches (the bar to 2.5x its length, points 1.25 cells apart)
          ("stretching_bar_mpm_2d.toml", ["run.end_time=0.015"]),
+         # ... plastic, to failure: Johnson-Cook damage and zero-stress erosion per point
+         ("stretching_bar_damage_mpm_2d.toml", ["run.end_time=0.012"]),
          # ... and in rz: the axis a constrained node plane, the hoop terms, the bulk viscosity
          ("taylor_bar_4340_rz.toml", ["run.end_time=2e-5", "solver.method=mpm",
                                       "solver.mpm.viscosity={linear=0.2, quadratic=2.0}"]),
