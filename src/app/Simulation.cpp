@@ -417,7 +417,13 @@ template <int Dim> double Simulation<Dim>::nextTimeStep() {
 // steps from there bit for bit.
 template <int Dim> std::pair<double, double> Simulation<Dim>::clampToTargets(double dt) const {
   double target = deck_.run.end_time;
-  if (deck_.output.every > 0.0) target = std::min(target, nextSnapshotTime_);
+  // An end time that is an output time (k every, which may be an ulp off the deck's literal)
+  // ends where a longer run's snapshot lands, so that the chain extending it takes that run's
+  // steps.
+  if (deck_.output.every > 0.0)
+    target = std::abs(nextSnapshotTime_ - target) <= 1e-12 * target
+                 ? nextSnapshotTime_
+                 : std::min(target, nextSnapshotTime_);
   for (std::size_t b = 0; b < waiting_.size(); ++b)
     if (waiting_[b]) target = std::min(target, deck_.bodies[b].insert_time);
   const double left = target - time_;
