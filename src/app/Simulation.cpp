@@ -400,7 +400,7 @@ double Simulation<Dim>::stepOnce(double dt, Clock::time_point wall0, bool replay
   time_ = timeAfter;
   ++step_;
   insertDueBodies();
-  if (!replay) record(dt, step_, wall0);
+  if (!replay) record(dtStep, step_, wall0);
   if (snapshotDue()) writeSnapshot(!replay);
   return nextTimeStep();
 }

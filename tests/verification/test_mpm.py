@@ -367,6 +367,12 @@ with tempfile.TemporaryDirectory() as tmp:
                 g = f["particles"]
                 o = np.argsort(g["id"][()])
                 ends.append({k: g[k][()][o] for k in g})
+        # history.csv's dt is the step taken (the steps cut to land on the 2.5e-4 s snapshot
+        # times included): each row's time minus the last, to the rounding of the times.
+        hist = np.genfromtxt(straight / "history.csv", delimiter=",", names=True)
+        gap = np.abs(np.diff(hist["time"]) - hist["dt"][1:]).max() / hist["dt"].max()
+        t.check(gap < 1e-9, f"stretched bar: history.csv's dt is each step's time difference "
+                            f"({gap:.1e} of the largest step)")
         differ = [k for k in ends[0] if not np.array_equal(ends[0][k], ends[1][k])]
         t.check(not differ and ends[0]["damage"].max() == 1.0,
                 "stretched bar to failure: restarted before failure on 3 ranks, the state after "
