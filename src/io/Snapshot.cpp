@@ -60,53 +60,6 @@ void writeFile(MPI_Comm comm, const std::string& tmp, const SnapshotAttributes& 
   file.close(tmp, "H5Fclose");
 }
 
-// Every dataset of a group, its first axis the rows.
-SnapshotTable readGroup(hid_t file, const std::string& name, const std::string& path,
-                        std::vector<std::uint64_t>* id) {
-  SnapshotTable out;
-  Handle group(H5Gopen2(file, name.c_str(), H5P_DEFAULT), H5Gclose, path,
-               ("H5Gopen2(" + name + ")").c_str());
-  H5G_info_t info;
-  check(H5Gget_info(group, &info), path, "H5Gget_info");
-  bool first = true;
-  for (hsize_t i = 0; i < info.nlinks; ++i) {
-    const std::string field = hdf5::linkName(group, i, path);
-    const std::string where = "/" + name + "/" + field;
-
-    Handle dset(H5Dopen2(group, field.c_str(), H5P_DEFAULT), H5Dclose, path,
-                ("H5Dopen2(" + where + ")").c_str());
-    Handle space(H5Dget_space(dset), H5Sclose, path, "H5Dget_space");
-    const int rank = H5Sget_simple_extent_ndims(space);
-    if (rank < 1) throw RunError(path + ": dataset " + where + " has no row axis");
-    std::vector<hsize_t> dims(static_cast<std::size_t>(rank));
-    H5Sget_simple_extent_dims(space, dims.data(), nullptr);
-    if (first) out.count = dims[0];
-    if (dims[0] != out.count)
-      throw RunError(path + ": dataset " + where + " has " + std::to_string(dims[0]) +
-                     " rows, expected " + std::to_string(out.count));
-    first = false;
-
-    std::size_t n = 1;
-    auto& shape = out.shapes[field];
-    for (int d = 0; d < rank; ++d) {
-      n *= dims[static_cast<std::size_t>(d)];
-      if (d > 0) shape.push_back(static_cast<int>(dims[static_cast<std::size_t>(d)]));
-    }
-    auto& values = out.fields[field];
-    values.resize(n);
-    if (n > 0)
-      check(H5Dread(dset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), path,
-            ("H5Dread(" + where + ")").c_str());
-    if (id && field == "id") {
-      id->resize(n);
-      if (n > 0)
-        check(H5Dread(dset, H5T_NATIVE_UINT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, id->data()), path,
-              "H5Dread(id)");
-    }
-  }
-  return out;
-}
-
 } // namespace
 
 void writeSnapshot(MPI_Comm comm, const std::string& path, const SnapshotAttributes& attrs,
@@ -141,15 +94,43 @@ SnapshotData readSnapshot(const std::string& path) {
   out.dimension = readScalarAttribute<int>(file, "dimension", H5T_NATIVE_INT, path);
   out.version = readStringAttribute(file, "spall_version", path);
 
-  SnapshotTable particles = readGroup(file, "particles", path, &out.id);
-  out.count = particles.count;
-  out.fields = std::move(particles.fields);
-  out.shapes = std::move(particles.shapes);
+  Handle group(H5Gopen2(file, "particles", H5P_DEFAULT), H5Gclose, path, "H5Gopen2(particles)");
   H5G_info_t info;
-  check(H5Gget_info(file, &info), path, "H5Gget_info");
+  check(H5Gget_info(group, &info), path, "H5Gget_info");
+  bool first = true;
   for (hsize_t i = 0; i < info.nlinks; ++i) {
-    const std::string name = hdf5::linkName(file, i, path);
-    if (name != "particles") out.groups[name] = readGroup(file, name, path, nullptr);
+    const std::string name = hdf5::linkName(group, i, path);
+
+    Handle dset(H5Dopen2(group, name.c_str(), H5P_DEFAULT), H5Dclose, path,
+                ("H5Dopen2(" + name + ")").c_str());
+    Handle space(H5Dget_space(dset), H5Sclose, path, "H5Dget_space");
+    const int rank = H5Sget_simple_extent_ndims(space);
+    if (rank < 1) throw RunError(path + ": dataset /particles/" + name + " has no particle axis");
+    std::vector<hsize_t> dims(static_cast<std::size_t>(rank));
+    H5Sget_simple_extent_dims(space, dims.data(), nullptr);
+    if (first) out.count = dims[0];
+    if (dims[0] != out.count)
+      throw RunError(path + ": dataset /particles/" + name + " has " + std::to_string(dims[0]) +
+                     " rows, expected " + std::to_string(out.count));
+    first = false;
+
+    std::size_t n = 1;
+    auto& shape = out.shapes[name];
+    for (int d = 0; d < rank; ++d) {
+      n *= dims[static_cast<std::size_t>(d)];
+      if (d > 0) shape.push_back(static_cast<int>(dims[static_cast<std::size_t>(d)]));
+    }
+    auto& values = out.fields[name];
+    values.resize(n);
+    if (n > 0)
+      check(H5Dread(dset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), path,
+            ("H5Dread(" + name + ")").c_str());
+    if (name == "id") {
+      out.id.resize(n);
+      if (n > 0)
+        check(H5Dread(dset, H5T_NATIVE_UINT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.id.data()), path,
+              "H5Dread(id)");
+    }
   }
   return out;
 }

@@ -51,13 +51,6 @@ void writeSnapshot(MPI_Comm comm, const std::string& path, const SnapshotAttribu
 void writeSnapshot(MPI_Comm comm, const std::string& path, const SnapshotAttributes& attrs,
                    std::size_t localCount, std::span<const SnapshotField> fields);
 
-// A group's datasets, as doubles (integers exact below 2^53).
-struct SnapshotTable {
-  std::size_t count = 0;
-  std::map<std::string, std::vector<double>> fields;
-  std::map<std::string, std::vector<int>> shapes; // per-row shape of each dataset
-};
-
 struct SnapshotData {
   double time = 0.0;
   std::int64_t step = 0;
@@ -67,10 +60,10 @@ struct SnapshotData {
   std::map<std::string, std::vector<double>> fields; // every /particles dataset, as doubles
   std::map<std::string, std::vector<int>> shapes;    // per-particle shape of each dataset
   std::vector<std::uint64_t> id;                     // /particles/id exactly (empty if absent)
-  std::map<std::string, SnapshotTable> groups;       // every other group (MPM's "grid")
 };
 
-// Serial (no MPI needed). Integer datasets are converted to double, exact below 2^53.
+// Serial (no MPI needed): /particles (other groups, MPM's /grid, are left unread). Integer
+// datasets are converted to double, exact below 2^53.
 SnapshotData readSnapshot(const std::string& path);
 
 } // namespace spall::io
