@@ -19,6 +19,10 @@ exact answers, across rank counts and restarts, and hydrodynamic penetration aga
    spacing too (decks/README.md, "Penetration", on the gap). The bound here, 5%, holds what the
    method gives now and fails if it loses more; compressibility alone accounts for -1.2%
    (copper: the stagnation pressures of isentropic Murnaghan fluids).
+   The copper pair again with MPM (solver.method = "mpm", GIMP), one grid field (the default)
+   and a field per body (contact "frictionless"), the same 5%: measured -4.0% and -4.1%. (Before
+   two faults of the frictionless contact were mended, the axial rings passing through each
+   other and the points keeping what contact took from their nodes, it ran at 2.19 U_B.)
 
 usage: test_penetration.py SPALL SOURCE_DIR
 """
@@ -140,8 +144,10 @@ def ranks_and_restart(tmp):
 def bernoulli(tmp):
     aluminium = ["material.target_metal.density=2700",
                  'material.target_metal.eos={type="mie_gruneisen",c0=5350.0,s=1.34,gamma0=2.0}']
-    for name, sets in (("copper", []), ("aluminium", aluminium)):
-        out = tmp / f"hydro_{name}"
+    mpm = ["solver.method=mpm"]
+    for name, sets in (("copper", []), ("aluminium", aluminium), ("copper, MPM", mpm),
+                       ("copper, MPM frictionless", mpm + ["solver.contact=frictionless"])):
+        out = tmp / f"hydro_{name.replace(', ', '_').replace(' ', '_')}"
         if not run(HYDRO, out, *sets, "run.end_time=16e-6", ranks=2):
             continue
         p = subprocess.run([str(SRC / "tools/penetration"), str(out), "--json", "--window", "2",

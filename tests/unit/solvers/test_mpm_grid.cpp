@@ -697,3 +697,57 @@ TEST(MpmGridContact, AConfiningPressureDoesNotPullTouchingBodiesApart) {
   for (const auto& u : free) fastest = std::max(fastest, u.norm());
   EXPECT_GT(fastest, 0.1 * scale);
 }
+
+namespace {
+
+// A rod, 2 columns of points 0.375 wide (x < 0.75) and 4 rows, closes at 1 along y on a block of
+// 8 columns 0.5 wide (x < 4) and 4 rows (cells of 1, GIMP, PIC, stress-free, a field each), one
+// step: against a slip wall at x = 0, or mirrored (the points at -x too, no wall). The
+// velocities of the points at x > 0, in the order made.
+std::vector<Vec<2>> stepRodOnBlock(bool mirrored) {
+  std::vector<Vec<2>> x, v, a;
+  std::vector<double> m, rho, p, lp;
+  std::vector<std::int32_t> field;
+  for (const double side : mirrored ? std::vector<double>{1.0, -1.0} : std::vector<double>{1.0})
+    for (int block = 0; block < 2; ++block)
+      for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < (block == 0 ? 8 : 2); ++i) {
+          const double w = block == 0 ? 0.5 : 0.375; // the columns' width
+          x.emplace_back(side * w * (i + 0.5), 0.25 + 0.5 * j + (block == 1 ? 2.0 : 0.0));
+          v.emplace_back(0.0, block == 0 ? 0.0 : -1.0);
+          a.push_back(Vec<2>::Zero());
+          m.push_back(w * 0.5);
+          rho.push_back(1.0);
+          p.push_back(0.0);
+          lp.push_back(0.5 * w);
+          field.push_back(block);
+        }
+  std::vector<std::uint32_t> order(x.size());
+  std::iota(order.begin(), order.end(), 0u);
+  const MpmConfig config = gridConfig(1.0, MpmShape::Gimp, 0.0);
+  std::vector<GridWall<2>> walls;
+  if (!mirrored) walls.push_back(GridWall<2>{Vec<2>::Zero(), Vec<2>(1.0, 0.0)});
+  auto grid = makeMpmGrid<2>(config, Vec<2>(-8.0, 0.0), walls);
+  auto P = points<2>(x, v, a, m, rho, p, lp, {}, x.size());
+  P.field = field;
+  grid->project(P, order, 0.01);
+  return {v.begin(), v.begin() + 40};
+}
+
+} // namespace
+
+TEST(MpmGridContact, ASlipWallIsAMirrorWhereFieldsMeetOnIt) {
+  // The rod's edge lies inside the support of the nodes on the wall, the block's does not, so
+  // there the fields' volume gradients differ across the wall and their difference, the normal,
+  // leans across it (by 18 degrees here). Contact must then act along the wall: the scene against
+  // the wall is the mirrored scene's half, to round-off. (Corrected along the leaning normal, the
+  // wall then took the rest and left part of the approach: the rod's point on the wall next to the
+  // interface kept -0.6906 instead of -0.6855, and on the axis of an rz rod striking a block the
+  // bodies' axial rings passed through each other at 4-5 km/s.) The contrast: contact acts here.
+  const auto wall = stepRodOnBlock(false), mirror = stepRodOnBlock(true);
+  for (std::size_t k = 0; k < wall.size(); ++k) {
+    EXPECT_NEAR(wall[k][0], mirror[k][0], 1e-14) << k;
+    EXPECT_NEAR(wall[k][1], mirror[k][1], 1e-14) << k;
+  }
+  EXPECT_GT(wall[32][1], -0.9); // the rod's point on the wall next to the interface slowed
+}
