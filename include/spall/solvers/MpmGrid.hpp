@@ -35,8 +35,9 @@
 //   (v_b - v_cm) . n_b > 0  =>  v_b <- v_b - ((v_b - v_cm) . n_b) n_b,
 // where the fields' material fills the node's support (a gap is not a contact: MpmGridContact.hpp),
 // applied to the grid velocities before the force, after it (the force acting on the corrected
-// velocity) and after the remap. The tangential part is untouched (no friction) and fields
-// moving apart are free (no tension). With two fields the normals are opposite and the
+// velocity) and after the remap; the first two reach the particles' velocities (the bodies'
+// momentum exchange), and on a wall plane n_b lies in the plane. The tangential part is
+// untouched (no friction) and fields moving apart are free (no tension). With two fields the normals are opposite and the
 // corrections conserve momentum exactly; with more, the node's momentum to the normals' spread.
 #include "spall/core/Types.hpp"
 #include "spall/solvers/Config.hpp"
