@@ -167,21 +167,28 @@ void Simulation<Dim>::explainFailure(const StepFailure& failure, Clock::time_poi
         "element {1} --material {2} --table {0}.ftable --state {0}_state.csv --substeps 1 "
         "--output {0}_replay.csv",
         (dir_ / stem).string(), (dir_ / "deck.toml").string(), material.name);
-  // What usually causes it, judged from the particle.
-  if (compression > 10.0 || hRatio < 0.1)
+  // What usually causes it, judged from the particle. (MPM has no neighbors to count.)
+  const bool mpm = deck_.solver.method == "mpm";
+  if (mpm && deck_.solver.contact == Contact::Frictionless)
+    text += "\n  hint: with MPM and solver.contact = \"frictionless\", a point of one body amid "
+            "another's material (debris) can be squeezed or flung: its field's nodes are held "
+            "where they move toward the other body, not where they move away. One velocity "
+            "field (\"welded\" or \"auto\") cannot do this; see decks/README.md, \"The material "
+            "point method\"";
+  else if (!mpm && (compression > 10.0 || hRatio < 0.1))
     text += "\n  hint: compressed beyond any shock state (a shock compresses ~4-6x): particles "
             "are interpenetrating or pairing. Where bodies meet, solver.contact = "
             "\"frictionless\" and solver.stress_form = \"rho_product\" (the default) hold "
             "them apart; also a smaller solver.cfl or a finer resolution";
-  else if (f.neighbors < 3 * Dim)
+  else if (!mpm && f.neighbors < 3 * Dim)
     text += "\n  hint: the particle has few neighbors: it has left its body (a fragment of one "
             "particle); solids under tension: solver.artificial_stress";
   else if (nonFinite)
     text += "\n  hint: try a smaller solver.cfl; see decks/README.md, \"When a run fails\"";
   else
-    text += fmt::format("\n  hint: a step below 1e-14 of run.end_time ({:.3e} s) counts as "
+    text += fmt::format("\n  hint: a step below {:g} of run.end_time ({:.3e} s) counts as "
                         "collapsed; see decks/README.md, \"When a run fails\"",
-                        1e-14 * deck_.run.end_time);
+                        kCollapse, kCollapse * deck_.run.end_time);
   throw RunError(text, true);
 }
 

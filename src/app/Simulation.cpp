@@ -405,9 +405,9 @@ double Simulation<Dim>::stepOnce(double dt, Clock::time_point wall0, bool replay
   return nextTimeStep();
 }
 
-// The method's stable step; a step below 1e-14 of the end time is a collapse.
+// The method's stable step; a step below kCollapse of the end time is a collapse.
 template <int Dim> double Simulation<Dim>::nextTimeStep() {
-  return method_->stableTimeStep(1e-14 * deck_.run.end_time, step_, time_);
+  return method_->stableTimeStep(kCollapse * deck_.run.end_time, step_, time_);
 }
 
 // Shortens dt so that snapshot times and the end time are hit exactly; splits the last two

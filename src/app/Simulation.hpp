@@ -66,6 +66,10 @@ private:
   // Simulation.cpp: the loop
   double stepOnce(double dt, Clock::time_point wall0, bool replay);
   double nextTimeStep();
+  // A stable step below this fraction of run.end_time is a collapse: ten billion steps to go is
+  // a run that never ends (a point compressed without bound took dt from 3e-8 s to 5e-17 s, and
+  // the run went on; at 1e-14 it was not yet a collapse).
+  static constexpr double kCollapse = 1e-10;
   std::pair<double, double> clampToTargets(double dt) const;
   void insertDueBodies();
   void checkpoint(double dtNext, Clock::time_point wall0);

@@ -145,7 +145,7 @@ try:
         check(r.returncode == 1 and Path(str(outs / Path(command[command.index("--table") + 1]).name))
               .read_text() == table, "a restart into the same failure keeps the first F-table")
 
-    # ---- a collapsed step: the floor is 1e-14 of the end time ----
+    # ---- a collapsed step: the floor is 1e-10 of the end time ----
     outc = tmp / "collapse"
     r = run(1, [str(SRC / "decks/sod_1d.toml"), "--output", str(outc), "--set", "run.end_time=1e12",
                 "--set", "output.every=1e6"])
