@@ -3,6 +3,7 @@
 #include "spall/methods/modules/DeformationGradient.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <fmt/format.h>
 #include <fstream>
 #include <limits>
@@ -169,7 +170,9 @@ void Simulation<Dim>::explainFailure(const StepFailure& failure, Clock::time_poi
         (dir_ / stem).string(), (dir_ / "deck.toml").string(), material.name);
   // What usually causes it, judged from the particle. (MPM has no neighbors to count.)
   const bool mpm = deck_.solver.method == "mpm";
-  if (mpm && deck_.solver.contact == Contact::Frictionless)
+  // Squeezed, or flung faster than any impact here (100 km/s).
+  const bool wild = compression > 2.0 || std::hypot(f.v[0], f.v[1], f.v[2]) > 1e5;
+  if (mpm && deck_.solver.contact == Contact::Frictionless && (wild || nonFinite))
     text += "\n  hint: with MPM and solver.contact = \"frictionless\", a point of one body amid "
             "another's material (debris) can be squeezed or flung: its field's nodes are held "
             "where they move toward the other body, not where they move away. One velocity "

@@ -154,6 +154,14 @@ try:
     check(r.returncode == 1 and m is not None, f"a collapsed step names its particle:\n{r.stderr}")
     check((outc / "checkpoints/latest").read_text().strip() == "ckpt_000000.h5",
           "and checkpoints the state it has")
+    # MPM's hints are its own: no neighbor count; with frictionless contact, a point flung
+    # faster than any impact (here set off at 200 km/s) is contact's debris.
+    for speed, hint in ((0.1, "counts as collapsed"), (2e5, 'MPM and solver.contact = "frictionless"')):
+        r = run(1, [str(SRC / "decks/glancing_disks_mpm_2d.toml"), "--output",
+                    str(tmp / f"collapse_mpm{speed:g}"), "--set", "run.end_time=1e12", "--set",
+                    "output.every=1e6", "--set", f"body.1.velocity=[{speed}, 0.0]"])
+        check(r.returncode == 1 and "time step collapsed" in r.stderr and hint in r.stderr and
+              "few neighbors" not in r.stderr, f"an MPM collapse at {speed:g} m/s: {hint}\n{r.stderr}")
 
     # ---- progress in a batch log ----
     for ranks in (1, 2):
