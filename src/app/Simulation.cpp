@@ -43,6 +43,8 @@ Simulation<Dim>::Simulation(const Deck& deck, const parallel::MpiContext& mpi)
   decomposition_ =
       std::make_unique<parallel::Decomposition<Dim>>(mpi.comm(), dc, f_.id, f_.x, cost_);
   methods::MethodSetup setup = methodSetup(deck);
+  if (deck.solver.method == "mpm" && deck.solver.contact == Contact::Frictionless)
+    warnThinBodies(setup.solver.mpm.cell_size);
   setup.note = [this](const std::string& line) {
     if (log_) log_->note(line);
   };
@@ -403,6 +405,32 @@ double Simulation<Dim>::stepOnce(double dt, Clock::time_point wall0, bool replay
   if (!replay) record(dtStep, step_, wall0);
   if (snapshotDue()) writeSnapshot(!replay);
   return nextTimeStep();
+}
+
+// A body's smallest extent from its shape (rz: a box from the axis counts its radius).
+template <int Dim> void Simulation<Dim>::warnThinBodies(double cell) {
+  std::vector<std::string> thin;
+  for (const auto& b : deck_.bodies) {
+    const ShapeConfig& s = b.shape;
+    double width = std::numeric_limits<double>::infinity();
+    if (s.type == "box")
+      for (std::size_t a = 0; a < s.min.size() && a < s.max.size(); ++a)
+        width = std::min(width, s.max[a] - s.min[a]);
+    else if (s.type == "sphere")
+      width = 2.0 * s.radius;
+    else if (s.type == "cylinder")
+      width = std::min(2.0 * s.radius, s.length);
+    else if (s.type == "ring")
+      width = s.outer_radius - s.inner_radius;
+    if (width < 2.0 * cell) thin.push_back(fmt::format("'{}' {:.3g} m", b.name, width));
+  }
+  if (thin.empty()) return;
+  deferredWarnings_.push_back(fmt::format(
+      "{}:{}: solver.contact = \"frictionless\" with MPM acts where the bodies' material fills "
+      "90% of a node's support: bodies under 2 cells ({:.3g} m) across can pass through others "
+      "unstopped ({}); a finer run.resolution or contact \"welded\" (decks/README.md, \"The "
+      "material point method\")",
+      deck_.solver.where.file, deck_.solver.where.line, 2.0 * cell, fmt::join(thin, ", ")));
 }
 
 // The method's stable step; a step below kCollapse of the end time is a collapse.

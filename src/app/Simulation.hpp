@@ -66,6 +66,9 @@ private:
   // Simulation.cpp: the loop
   double stepOnce(double dt, Clock::time_point wall0, bool replay);
   double nextTimeStep();
+  // MPM's frictionless contact acts where the bodies' material fills 90% of a node's support: a
+  // body under 2 cells across can pass through another (decks/README.md). Warns which.
+  void warnThinBodies(double cell);
   // A stable step below this fraction of run.end_time is a collapse: ten billion steps to go is
   // a run that never ends (a point compressed without bound took dt from 3e-8 s to 5e-17 s, and
   // the run went on; at 1e-14 it was not yet a collapse).

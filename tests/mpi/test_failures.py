@@ -162,6 +162,15 @@ try:
                     "output.every=1e6", "--set", f"body.1.velocity=[{speed}, 0.0]"])
         check(r.returncode == 1 and "time step collapsed" in r.stderr and hint in r.stderr and
               "few neighbors" not in r.stderr, f"an MPM collapse at {speed:g} m/s: {hint}\n{r.stderr}")
+    # Frictionless MPM warns of bodies under 2 cells across (they can pass through others): the
+    # disks (0.4 m) with cells of 0.25 m; none with the deck's cells.
+    for cell, warned in ((0.25, True), (0.0, False)):
+        r = run(1, [str(SRC / "decks/glancing_disks_mpm_2d.toml"), "--output",
+                    str(tmp / f"thin{cell:g}"), "--set", "run.max_steps=1", "--set",
+                    f"solver.mpm.cell_size={cell}"])
+        said = "can pass through others unstopped ('lower' 0.4 m, 'upper' 0.4 m)" in r.stderr
+        check(r.returncode == 0 and said == warned,
+              f"cells of {cell:g} m: {'a' if warned else 'no'} thin-body warning\n{r.stderr}")
 
     # ---- progress in a batch log ----
     for ranks in (1, 2):
