@@ -37,8 +37,9 @@
 // applied to the grid velocities before the force, after it (the force acting on the corrected
 // velocity) and after the remap; the first two reach the particles' velocities (the bodies'
 // momentum exchange), and on a wall plane n_b lies in the plane. The tangential part is
-// untouched (no friction) and fields moving apart are free (no tension). With two fields the normals are opposite and the
-// corrections conserve momentum exactly; with more, the node's momentum to the normals' spread.
+// untouched (no friction) and fields moving apart are free (no tension). With two fields the
+// normals are opposite and the corrections conserve momentum exactly; with more, the node's
+// momentum to the normals' spread.
 #include "spall/core/Types.hpp"
 #include "spall/solvers/Config.hpp"
 #include "spall/solvers/GridNodes.hpp"
