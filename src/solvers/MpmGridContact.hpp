@@ -77,7 +77,7 @@ template <int Dim, MpmShape Shape> void Grid<Dim, Shape>::contact(std::vector<Ve
       // correction: on the axis of an rz rod striking a block the two bodies' axial rings
       // passed through each other at 4-5 km/s (decks/README.md, "The material point method").
       for (const auto& w : walls_)
-        if ((X - w.point).dot(w.normal) <= 1e-9 * c_.cell_size) n -= n.dot(w.normal) * w.normal;
+        if (onWall(X, w)) n -= n.dot(w.normal) * w.normal;
       const double length = n.norm();
       if (b == held || !(mass_[b] > 0.0) || !(length > 0.0)) continue;
       n /= length;

@@ -458,11 +458,15 @@ private:
   void constrain(std::size_t I, Vec<Dim>& v) const {
     constrainAt(key_[lattice(I)], v);
   }
+  // A node on or behind a wall's plane: the wall holds its velocity along the normal.
+  bool onWall(const Vec<Dim>& X, const GridWall<Dim>& w) const {
+    return (X - w.point).dot(w.normal) <= 1e-9 * c_.cell_size;
+  }
   void constrainAt(const Key& k, Vec<Dim>& v) const {
     if (walls_.empty()) return;
     const Vec<Dim> X = place(k);
     for (const auto& w : walls_)
-      if ((X - w.point).dot(w.normal) <= 1e-9 * c_.cell_size) v -= v.dot(w.normal) * w.normal;
+      if (onWall(X, w)) v -= v.dot(w.normal) * w.normal;
   }
 
   MpmConfig c_;
