@@ -66,6 +66,9 @@ template <int Dim> void SphMethod<Dim>::advance(double dt, std::int64_t step, do
   rates(step, time + dt);
   stats_.phases.time(kIntegration, [&] {
     kick(dt);
+    const std::size_t n = s_.localCount();
+    boundaries_.holdVelocity(s_[f_.x].first(n), std::span<const double>(s_[f_.h]).first(n),
+                             s_[f_.v].first(n), s_[f_.e].first(n));
     materials_.evaluate(materialFields()); // p, cs of the corrected state (output, next dt)
     solver_->updateSmoothing();
   });
@@ -259,8 +262,11 @@ template <int Dim> void SphMethod<Dim>::kernelCorrection() {
 
 template <int Dim> void SphMethod<Dim>::forces(double time) {
   for (const auto& m : modules_) m->beforeRates(s_, f_, time);
-  solver_->computeRates(lists());
+  solver_->computeRates(lists(), boundaries_.firstWallImage());
   for (const auto& m : modules_) m->afterRates(s_, f_, time);
+  const std::size_t n = s_.localCount();
+  boundaries_.holdAcceleration(std::span<const Vec<Dim>>(s_[f_.x]).first(n),
+                               std::span<const double>(s_[f_.h]).first(n), s_[f_.a].first(n));
 }
 
 template class SphMethod<1>;

@@ -1,7 +1,10 @@
 #include "spall/solvers/Boundaries.hpp"
 
+#include "spall/core/Threads.hpp"
+
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace spall::solvers {
 
@@ -87,8 +90,11 @@ template <int Dim> void Boundaries<Dim>::buildGhosts(ParticleStore& s, double re
   source_.clear();
   wallOf_.clear();
   first_ = s.size();
+  firstWallImage_ = std::numeric_limits<std::size_t>::max();
   for (std::size_t k = 0; k < walls_.size(); ++k) {
     const Wall& w = walls_[k];
+    if (!w.fold && firstWallImage_ == std::numeric_limits<std::size_t>::max())
+      firstWallImage_ = s.size();
     const std::size_t count = s.size(); // owned, remote ghosts and images of earlier walls
     for (std::size_t i = 0; i < count; ++i) {
       const double d = (s[x_][i] - w.point).dot(w.normal);
@@ -101,6 +107,38 @@ template <int Dim> void Boundaries<Dim>::buildGhosts(ParticleStore& s, double re
       for (const auto f : vectors_) reflectVector(s, f, image);
       for (const auto f : tensors_) reflectTensor(s, f, image);
       for (const auto f : tensors3_) reflectTensor(s, f, image);
+    }
+  }
+}
+
+template <int Dim>
+void Boundaries<Dim>::holdAcceleration(std::span<const Vec<Dim>> x, std::span<const double> h,
+                                       std::span<Vec<Dim>> a) const {
+  for (const auto& w : walls_) {
+    if (w.fold) continue;
+#pragma omp parallel for schedule(static) if (threaded(a.size()))
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      if (!held(x[i], h[i], w)) continue;
+      const double an = a[i].dot(w.normal);
+      if (an < 0.0) a[i] -= an * w.normal;
+    }
+  }
+}
+
+template <int Dim>
+void Boundaries<Dim>::holdVelocity(std::span<Vec<Dim>> x, std::span<const double> h,
+                                   std::span<Vec<Dim>> v, std::span<double> e) const {
+  for (const auto& w : walls_) {
+    if (w.fold) continue;
+#pragma omp parallel for schedule(static) if (threaded(v.size()))
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      if (!held(x[i], h[i], w)) continue;
+      const double d = (x[i] - w.point).dot(w.normal);
+      if (d < 0.0) x[i] -= d * w.normal; // stepped across: back onto the plane
+      const double vn = v[i].dot(w.normal);
+      if (vn >= 0.0) continue;
+      v[i] -= vn * w.normal;
+      e[i] += 0.5 * vn * vn;
     }
   }
 }

@@ -139,13 +139,13 @@ public:
     return f_.B.valid();
   }
 
-  void computeRates(const neighbors::NeighborList& nl) override {
+  void computeRates(const neighbors::NeighborList& nl, std::size_t firstWallImage) override {
     if (!f_.hasStrength())
-      ratesLoop<Stress::Pressure>(nl);
+      ratesLoop<Stress::Pressure>(nl, firstWallImage);
     else if (f_.B.valid())
-      ratesLoop<Stress::CorrectedCauchy>(nl);
+      ratesLoop<Stress::CorrectedCauchy>(nl, firstWallImage);
     else
-      ratesLoop<Stress::Cauchy>(nl);
+      ratesLoop<Stress::Cauchy>(nl, firstWallImage);
   }
 
   // Owen (2010) Eqs. 1-4 (solvers/IdealH.hpp): n_h from the last loop's Psi_0, then h, or H with
@@ -224,7 +224,8 @@ private:
   // 10 particles through its thickness (elastic_plate_2d); corrected, it is within a few percent.
   // The Balsara switch and the product form are per-particle factors (rowScratch_), not
   // instantiations.
-  template <Stress Mode> void ratesLoop(const neighbors::NeighborList& nl);
+  template <Stress Mode>
+  void ratesLoop(const neighbors::NeighborList& nl, std::size_t firstWallImage);
 
   // ---- ASPH -------------------------------------------------------------------------------
   struct AnisoRow {

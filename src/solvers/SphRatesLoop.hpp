@@ -7,7 +7,7 @@ namespace spall::solvers::sph {
 
 template <int Dim, class K, bool Aniso>
 template <Stress Mode>
-void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl) {
+void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl, std::size_t firstWallImage) {
   constexpr bool Solid = Mode != Stress::Pressure;
   constexpr bool Corrected = Mode == Stress::CorrectedCauchy;
   // The kernel values of a row in a pass of their own (Sph::pairKernels): the solids' long pair
@@ -218,7 +218,8 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl) {
       }
 
       const Vec<Dim> vij = vi - v[j];
-      double vr = vij.dot(xij);
+      // A rigid wall's image exerts no viscosity (Boundaries::holdAcceleration holds the wall).
+      double vr = j < firstWallImage ? vij.dot(xij) : 0.0;
       double Pij = 0.0;
       if constexpr (Solid)
         if (reconstruct && vr < 0.0) vr = reconstructedApproach(vr, xij, i, j, qMean);

@@ -16,10 +16,11 @@ The same on a Taylor bar (decks/taylor_bar_4340_rz.toml, 160 and 640 rings, ~13 
 tool's Taylor metric (tools/taylor's length and face against the deck header's reference,
 Johnson & Cook's test: 22.48 mm, 11.1 mm), SPH and MPM as series: both at both resolutions;
 the final length within 2% of the test's at resolution 1 with either method (issue 21's bound;
-measured 0.52% and 0.49%; the length is within 0.8% at every resolution: decks/README, "Taylor
-bars"), and each method's face error falling with resolution at an order above 0.25 (measured
-0.73 and 0.46; the 3D bar's face converges at 0.85) - the face itself is not bounded here:
-at 4 and 8 rings across the radius it is 5.6% (SPH) and 10% (MPM) narrow.
+measured 0.59% and 0.49%; the length is within 0.8% at every resolution: decks/README, "Taylor
+bars"). The face: SPH's within the issue's 4% at resolution 1 and resolved, within 0.5 points
+of resolution 0.5's (measured -4.1% and -3.7%; the rz bar stays at -3.7% up to 38 rings across
+the radius: the model's error against the test, since the wall's hold); MPM's, still 10%
+narrow at 8 rings across, falling at an order above 0.25 (measured 0.46).
 
 usage: test_work_precision.py SPALL SOURCE_DIR
 """
@@ -90,8 +91,13 @@ with tempfile.TemporaryDirectory() as tmp:
         t.check(length_err < 0.02 and abs(length / 22.48 - 1) < 0.02,
                 f"Taylor ({series}): final length {length:.3f} mm within 2% of the test's 22.48 mm "
                 f"({length_err:.2%})")
-        order = math.log2(rows[(series, 0.5)][2] / rows[(series, 1.0)][2])
-        t.check(order > 0.25, f"Taylor ({series}): the face error falls, {rows[(series, 0.5)][2]:.3f} "
-                              f"to {rows[(series, 1.0)][2]:.3f}, order {order:.2f} (> 0.25)")
+        coarse, fine = rows[(series, 0.5)][2], rows[(series, 1.0)][2]
+        if series == "sph":
+            t.check(fine < 0.04 and abs(fine - coarse) < 0.005,
+                    f"Taylor (sph): the face error within 4% and resolved, {coarse:.3f} to {fine:.3f}")
+        else:
+            order = math.log2(coarse / fine)
+            t.check(order > 0.25, f"Taylor ({series}): the face error falls, {coarse:.3f} to "
+                                  f"{fine:.3f}, order {order:.2f} (> 0.25)")
 
 t.finish()

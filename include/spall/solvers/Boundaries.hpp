@@ -29,6 +29,25 @@ public:
   bool crossedWall(std::span<const Vec<Dim>> from, std::span<const Vec<Dim>> to) const;
   // Appends the mirror image of every particle (owned or ghost) within `reach` of a wall.
   void buildGhosts(ParticleStore& s, double reach);
+  // The images of rigid walls are the rows from this one on (the rz axis, the only folding
+  // wall, comes first: its images are the material's own mirror, those of a rigid wall only
+  // carry the stress across it; see holdAcceleration).
+  std::size_t firstWallImage() const { return firstWallImage_; }
+  // A rigid wall's normal constraint on the owned particles (issue 21, decks/README.md "Taylor
+  // bars"): a particle within kHold h of the plane is not accelerated into it (the constraint
+  // force, which does no work on a particle sliding along the wall), and its velocity into the
+  // plane is stopped, the kinetic energy of that component becoming heat (a rigid wall does no
+  // work, so total energy is kept). The images alone hold a particle ever more weakly as it
+  // nears the plane (the kernel's gradient vanishes at zero distance); their artificial
+  // viscosity, the hold before this, pushed the face of a Taylor bar off the wall and kept its
+  // mushroom narrow. kHold: a step at the CFL number 0.25 carries a particle approaching at a
+  // quarter of its sound speed less than 0.05 h, so it is held before it reaches the plane; a
+  // faster one that stepped across (at most h behind) is put back onto it.
+  static constexpr double kHold = 0.05;
+  void holdAcceleration(std::span<const Vec<Dim>> x, std::span<const double> h,
+                        std::span<Vec<Dim>> a) const;
+  void holdVelocity(std::span<Vec<Dim>> x, std::span<const double> h, std::span<Vec<Dim>> v,
+                    std::span<double> e) const;
   std::vector<parallel::PeriodicAxis> periodicAxes() const;
   // Copies the listed columns of each image from its source again (reflected where flagged; the
   // position mirrored across the plane), after they changed on the source (a step's positions,
@@ -50,6 +69,10 @@ private:
     P.template topLeftCorner<Dim, Dim>() -= 2.0 * w.normal * w.normal.transpose();
     return P * T * P;
   }
+  static bool held(const Vec<Dim>& x, double h, const Wall& w) {
+    const double d = (x - w.point).dot(w.normal);
+    return d <= kHold * h && d >= -h;
+  }
   // Reflects image k's value of a field in place.
   void reflectVector(ParticleStore& s, Field<Vec<Dim>> field, std::size_t k) const;
   template <int N>
@@ -57,6 +80,7 @@ private:
   std::vector<Wall> walls_;
   std::vector<Periodic> periodic_;
   std::size_t first_ = 0;             // first wall ghost
+  std::size_t firstWallImage_ = 0;    // first image of a rigid (not folding) wall
   std::vector<std::uint32_t> source_; // ghost first_ + k images source_[k]
   std::vector<std::uint32_t> wallOf_; // ... across walls_[wallOf_[k]]
   Field<Vec<Dim>> x_, v_;

@@ -25,8 +25,10 @@ public:
   // which the force loop then needs of the ghosts too.
   virtual bool correctsKernel() const = 0;
   virtual void computeKernelCorrection(const neighbors::NeighborList& nl) = 0;
-  // a, de/dt, drho/dt (and L for solids), and the sums for h and dt; owned particles.
-  virtual void computeRates(const neighbors::NeighborList& nl) = 0;
+  // a, de/dt, drho/dt (and L for solids), and the sums for h and dt; owned particles. Rows from
+  // `firstWallImage` on are images across rigid walls: they carry the mirrored stress, not the
+  // artificial viscosity (a wall is not material: its viscosity acted as friction).
+  virtual void computeRates(const neighbors::NeighborList& nl, std::size_t firstWallImage) = 0;
   // Owen (2010) Eqs. 1-6: relax h (or H) towards the target nodes per smoothing scale.
   virtual void updateSmoothing() = 0;
   // The local stable time step (the method takes the global minimum) and the owned particle

@@ -6,6 +6,7 @@
 #include "spall/materials/MaterialUpdate.hpp"
 #include "spall/solvers/SphSolver.hpp"
 
+#include <limits>
 #include <memory>
 #include <random>
 
@@ -66,8 +67,9 @@ struct SolverLattice {
   }
 
   // The solver, the neighbor list (spheres for SPH, ellipses |H x| < support for ASPH, with round
-  // H = I/h), the EOS, the kernel correction where enabled, and the rates.
-  void evaluate() {
+  // H = I/h), the EOS, the kernel correction where enabled, and the rates. Rows from
+  // `firstWallImage` on are a rigid wall's images (solvers::Boundaries), made by the caller.
+  void evaluate(std::size_t firstWallImage = std::numeric_limits<std::size_t>::max()) {
     materials::Material water{materials::LinearEos{1.0e9}, std::nullopt};
     if (solid_) water.strength = materials::Strength{materials::Elastic{1.0e8}};
     solver = solvers::makeSolver<2>(
@@ -93,7 +95,7 @@ struct SolverLattice {
                                                  {},
                                                  {}});
     if (solver->correctsKernel()) solver->computeKernelCorrection(nl);
-    solver->computeRates(nl);
+    solver->computeRates(nl, firstWallImage);
   }
 
   // What the rates do to the totals: sum m a (zero if momentum is conserved), sum m (v.a + de/dt)
