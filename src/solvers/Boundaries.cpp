@@ -118,7 +118,7 @@ void Boundaries<Dim>::holdAcceleration(std::span<const Vec<Dim>> x, std::span<co
     if (w.fold) continue;
 #pragma omp parallel for schedule(static) if (threaded(a.size()))
     for (std::size_t i = 0; i < a.size(); ++i) {
-      if (!held(x[i], h[i], w)) continue;
+      if (!held((x[i] - w.point).dot(w.normal), h[i])) continue;
       const double an = a[i].dot(w.normal);
       if (an < 0.0) a[i] -= an * w.normal;
     }
@@ -132,8 +132,8 @@ void Boundaries<Dim>::holdVelocity(std::span<Vec<Dim>> x, std::span<const double
     if (w.fold) continue;
 #pragma omp parallel for schedule(static) if (threaded(v.size()))
     for (std::size_t i = 0; i < v.size(); ++i) {
-      if (!held(x[i], h[i], w)) continue;
       const double d = (x[i] - w.point).dot(w.normal);
+      if (!held(d, h[i])) continue;
       if (d < 0.0) x[i] -= d * w.normal; // stepped across: back onto the plane
       const double vn = v[i].dot(w.normal);
       if (vn >= 0.0) continue;

@@ -69,10 +69,8 @@ private:
     P.template topLeftCorner<Dim, Dim>() -= 2.0 * w.normal * w.normal.transpose();
     return P * T * P;
   }
-  static bool held(const Vec<Dim>& x, double h, const Wall& w) {
-    const double d = (x - w.point).dot(w.normal);
-    return d <= kHold * h && d >= -h;
-  }
+  // Whether a particle at distance d from a rigid wall's plane is held by it.
+  static bool held(double d, double h) { return d <= kHold * h && d >= -h; }
   // Reflects image k's value of a field in place.
   void reflectVector(ParticleStore& s, Field<Vec<Dim>> field, std::size_t k) const;
   template <int N>
