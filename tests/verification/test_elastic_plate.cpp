@@ -57,8 +57,9 @@ PlateRun run(double resolution, double endTime, const std::string& tag) {
 } // namespace
 
 // Spacings 4 mm and 2 mm (5 and 10 particles through the thickness): the error shrinks at second
-// order, and the Richardson extrapolation of the two is the analytic period. Measured: +37% and
-// +9.4% (ratio 3.9), extrapolated +0.1%.
+// order, and the Richardson extrapolation of the two is the analytic period. Measured: +36.8% and
+// +9.7% (ratio 3.8), extrapolated +0.6% (with the artificial stress, which the deck turns off:
+// +43.4% and +13.7%, ratio 3.2, extrapolated +3.8%).
 TEST(ElasticPlate, PeriodConvergesToPlateTheory) {
   const double T = analyticPeriod();
   EXPECT_NEAR(T, 0.2540, 1e-4); // the value the deck's header states
@@ -72,19 +73,22 @@ TEST(ElasticPlate, PeriodConvergesToPlateTheory) {
   // Too soft on a coarse lattice (the outer fibres carry the bending), less so when refined.
   EXPECT_GT(eCoarse, eFine);
   EXPECT_GT(eFine, 0.0);
-  // Second order: halving the spacing divides the error by 4 (measured 3.9); 3 still rejects
+  // Second order: halving the spacing divides the error by 4 (measured 3.8); 3 still rejects
   // first order (2), which is what the plain, uncorrected gradient shows.
   EXPECT_GT(eCoarse / eFine, 3.0);
-  // The second-order extrapolation within the issue's 5%.
-  EXPECT_NEAR(extrapolated / T, 1.0, 0.05);
+  // The second-order extrapolation within 2% (the issue asked 5%): what remains is the clamp's
+  // root rotation and higher-order terms (+0.6%); the artificial stress's bias (+3.8%), which
+  // went unnoticed under 5%, fails it.
+  EXPECT_NEAR(extrapolated / T, 1.0, 0.02);
   // The clamp does no work and every pair term conserves energy: what is left is the time
-  // integration's error (measured ~1e-7); 1e-4 would catch a non-conservative term.
+  // integration's error (measured 1.6e-6); 1e-4 would catch a non-conservative term.
   EXPECT_LT(fine.drift, 1e-4);
 }
 
 // The deck as shipped (1 mm, 20 particles through the thickness): period within 5% of plate
-// theory directly, and the tip amplitude V c0 / omega = 2.306 cm within 5%. Measured: +2.75%,
-// 2.34 cm (+1.5%), energy drift 1.2e-7. About 6 minutes on one rank.
+// theory directly, and the tip amplitude V c0 / omega = 2.306 cm within 5%. Measured: +0.98%,
+// 2.345 cm (+1.7%), energy drift 3.5e-6 (with the artificial stress: +5.9%). About 2 minutes
+// on one rank.
 TEST(ElasticPlateLong, PeriodWithinFivePercentAtOneMillimetre) {
   const double T = analyticPeriod();
   const PlateRun r = run(1.0, 0.075, "plate1");
