@@ -6,6 +6,7 @@
 #include "spall/solvers/SphSolver.hpp"
 
 #include "spall/core/SymmetricEigen.hpp"
+#include "spall/core/SymmetricTensor.hpp"
 #include "spall/kernels/Kernels.hpp"
 #include "spall/kernels/PsiTable.hpp"
 #include "spall/solvers/Axisymmetric.hpp"
@@ -27,18 +28,6 @@ template <int Dim> double ipow(double x) {
     return x * x;
   else
     return x * x * x;
-}
-
-// x . D x of a symmetric D from its upper triangle, written out (Eigen's product is a call of its
-// own inside the out-of-line pair function, which 4% of a solid's step went to).
-template <int Dim> double quadraticForm(const Tensor<Dim>& D, const Vec<Dim>& x) {
-  if constexpr (Dim == 1)
-    return D(0, 0) * x[0] * x[0];
-  else if constexpr (Dim == 2)
-    return x[0] * (D(0, 0) * x[0] + 2.0 * D(0, 1) * x[1]) + D(1, 1) * x[1] * x[1];
-  else
-    return x[0] * (D(0, 0) * x[0] + 2.0 * (D(0, 1) * x[1] + D(0, 2) * x[2])) +
-           x[1] * (D(1, 1) * x[1] + 2.0 * D(1, 2) * x[2]) + D(2, 2) * x[2] * x[2];
 }
 
 // What the force loop carries: pressure alone (no material has strength), the full Cauchy stress
@@ -277,11 +266,12 @@ private:
     double q, s;    // the pressure term's per-row factors (see ratesLoop)
     double balsara; // Balsara (1995) factor, 1 when the switch is off
   };
-  std::vector<RowScratch> rowScratch_;        // scratch of the force loop
-  std::vector<Tensor<Dim>> sOverRho_;         // scratch of the force loop (solids)
-  std::vector<Tensor<Dim>> artificialStress_; // R of every row (solids, when enabled)
-  std::vector<Tensor<Dim>> strainRate_;       // sym L of every row (reconstructed viscosity)
-  std::vector<double> isochoric_;             // pair::isochoricGate of every row
+  std::vector<RowScratch> rowScratch_; // scratch of the force loop
+  // Symmetric, so stored as such (core/SymmetricTensor.hpp): 48 bytes a row each in 3D, not 72.
+  std::vector<SymTensor<Dim>> sOverRho_;         // scratch of the force loop (solids)
+  std::vector<SymTensor<Dim>> artificialStress_; // R of every row (solids, when enabled)
+  std::vector<SymTensor<Dim>> strainRate_;       // sym L of every row (reconstructed viscosity)
+  std::vector<double> isochoric_;                // pair::isochoricGate of every row
   // Marks the failed rows (ghosts included); whether any row failed at all.
   bool markCracks() {
     if (failedNoTension_.empty() || !f_.hasDamage()) return false;
@@ -290,9 +280,9 @@ private:
   // Out of line: the pair loop is register-bound, and only approaching pairs call it.
   [[gnu::noinline]] double reconstructedApproach(double vr, const Vec<Dim>& xij, std::size_t i,
                                                  std::size_t j, double q) const {
-    return pair::reconstructedApproach(
-        vr, quadraticForm<Dim>(strainRate_[i], xij), quadraticForm<Dim>(strainRate_[j], xij), q,
-        1.0 / cfg_.nodes_per_h, 0.5 * (isochoric_[i] + isochoric_[j]));
+    return pair::reconstructedApproach(vr, strainRate_[i].quadraticForm(xij),
+                                       strainRate_[j].quadraticForm(xij), q, 1.0 / cfg_.nodes_per_h,
+                                       0.5 * (isochoric_[i] + isochoric_[j]));
   }
   // SPH: the kernel values of the pairs of a row, before the force loop visits it. The square
   // root, the division and the kernel's branches of a pair wait on each other; in a short loop

@@ -1,0 +1,74 @@
+#pragma once
+// A symmetric Dim x Dim tensor stored as its upper triangle, row by row: 1, 3 or 6 doubles where a
+// full Tensor<Dim> holds 1, 4 or 9. The force loop keeps one or three of these per row, ghosts
+// included (S/rho^2, the strain rate, the artificial stress): two thirds of the bytes in 3D, and
+// fewer registers in a loop that is bound by them.
+#include "spall/core/Types.hpp"
+
+#include <array>
+
+namespace spall {
+
+template <int Dim> struct SymTensor {
+  static constexpr int kSize = Dim * (Dim + 1) / 2;
+  std::array<double, kSize> a{}; // (0,0), (0,1), (0,2), (1,1), (1,2), (2,2) in 3D
+
+  // The place of (r, c), r <= c, in the upper triangle.
+  static constexpr int index(int r, int c) { return r * Dim - r * (r - 1) / 2 + (c - r); }
+
+  double operator()(int r, int c) const { return r <= c ? a[index(r, c)] : a[index(c, r)]; }
+
+  // The symmetric part (M + M^T)/2 of a tensor's leading Dim x Dim block.
+  template <class M> static SymTensor symmetricPart(const M& m) {
+    SymTensor s;
+    for (int r = 0; r < Dim; ++r) {
+      s.a[static_cast<std::size_t>(index(r, r))] = m(r, r);
+      for (int c = r + 1; c < Dim; ++c)
+        s.a[static_cast<std::size_t>(index(r, c))] = 0.5 * (m(r, c) + m(c, r));
+    }
+    return s;
+  }
+
+  SymTensor operator/(double d) const {
+    SymTensor s;
+    for (int k = 0; k < kSize; ++k)
+      s.a[static_cast<std::size_t>(k)] = a[static_cast<std::size_t>(k)] / d;
+    return s;
+  }
+
+  static SymTensor zero() { return SymTensor{}; }
+
+  Tensor<Dim> full() const {
+    Tensor<Dim> m;
+    for (int r = 0; r < Dim; ++r)
+      for (int c = 0; c < Dim; ++c) m(r, c) = (*this)(r, c);
+    return m;
+  }
+
+  // M g, written out (a product that Eigen would not know to be symmetric).
+  Vec<Dim> operator*(const Vec<Dim>& g) const {
+    if constexpr (Dim == 1) {
+      return Vec<1>(a[0] * g[0]);
+    } else if constexpr (Dim == 2) {
+      return Vec<2>(a[0] * g[0] + a[1] * g[1], a[1] * g[0] + a[2] * g[1]);
+    } else {
+      return Vec<3>(a[0] * g[0] + a[1] * g[1] + a[2] * g[2],
+                    a[1] * g[0] + a[3] * g[1] + a[4] * g[2],
+                    a[2] * g[0] + a[4] * g[1] + a[5] * g[2]);
+    }
+  }
+
+  // x . M x, written out (an Eigen product would be a call of its own inside the out-of-line pair
+  // function that reads it, which 4% of a solid's step once went to).
+  double quadraticForm(const Vec<Dim>& x) const {
+    if constexpr (Dim == 1)
+      return a[0] * x[0] * x[0];
+    else if constexpr (Dim == 2)
+      return x[0] * (a[0] * x[0] + 2.0 * a[1] * x[1]) + a[2] * x[1] * x[1];
+    else
+      return x[0] * (a[0] * x[0] + 2.0 * (a[1] * x[1] + a[2] * x[2])) +
+             x[1] * (a[3] * x[1] + 2.0 * a[4] * x[2]) + a[5] * x[2] * x[2];
+  }
+};
+
+} // namespace spall
