@@ -421,6 +421,22 @@ void Simulation<Dim>::finish(RunLog& log, const RunOptions& options, Clock::time
       static_cast<std::size_t>(mpi_.sum(static_cast<double>(peakResidentBytes())));
   const std::size_t base = static_cast<std::size_t>(mpi_.sum(static_cast<double>(baselineRss_)));
   const double pairs = mpi_.sum(static_cast<double>(st.pairs));
+  // Memory by part: the bytes allocated where they live, over all ranks, per particle (the
+  // process's other memory, MPI's and HDF5's buffers among it, is in the RSS only).
+  std::vector<MemoryPart> parts = {{"particle_fields", store_.fieldBytes()}};
+  for (auto& part : method_->memoryParts()) parts.push_back(std::move(part));
+  parts.push_back({"rescue_copy", rescue_.rows.size()});
+  JsonObject memoryParts;
+  std::string memoryLine;
+  double accounted = 0.0;
+  const double perParticle = 1.0 / std::max(1.0, static_cast<double>(particles()));
+  for (const auto& part : parts) {
+    const double b = mpi_.sum(static_cast<double>(part.bytes)) * perParticle;
+    accounted += b;
+    memoryParts.value(part.name, fmt::format("{:.1f}", b));
+    memoryLine += fmt::format("{}{} {:.0f}", memoryLine.empty() ? "" : ", ", part.name, b);
+  }
+  memoryParts.value("accounted", fmt::format("{:.1f}", accounted));
   const double ghostFraction = mpi_.max(st.ghostFractionMax);
   const std::uint64_t crossPairs = mpi_.sum(st.crossPairs) / 2;
   const bool reproducible = deck_.decomposition.reproducible;
@@ -445,6 +461,7 @@ void Simulation<Dim>::finish(RunLog& log, const RunOptions& options, Clock::time
                                 "evaluations (skin {:g})",
                                 meanNeighbors, st.listBuilds, st.evaluations,
                                 deck_.solver.neighbor_skin));
+  lines.push_back(fmt::format("memory: {:.0f} B/particle allocated ({})", accounted, memoryLine));
   if (checkpointsWritten_ > 0)
     lines.push_back(fmt::format(
         "checkpoints: {} written, {:.1f} MB each ({:.0f} B/particle), {:.2f} s in all "
@@ -526,6 +543,7 @@ void Simulation<Dim>::finish(RunLog& log, const RunOptions& options, Clock::time
                                        ? static_cast<double>(peak - std::min(peak, base)) /
                                              static_cast<double>(particles())
                                        : 0.0))
+      .object("memory_parts", memoryParts)
       .object("phases", phaseSeconds)
       .object("checkpoint", checkpoint)
       .object("decomposition", decomposition)

@@ -182,10 +182,10 @@ template <int Dim> void SphMethod<Dim>::exchangeHalo() {
   const std::size_t n = s_.localCount();
   const double support = verlet_.widened(solver_->support());
   const auto h = s_[f_.h];
-  reach_.resize(n);
+  resizeWithHeadroom(reach_, n);
   if (f_.anisotropic()) {
     const auto H = s_[f_.H];
-    boxReach_.resize(n);
+    resizeWithHeadroom(boxReach_, n);
     for (std::size_t i = 0; i < n; ++i) {
       boxReach_[i] = support * H[i].inverse().rowwise().norm();
       reach_[i] = support * h[i];

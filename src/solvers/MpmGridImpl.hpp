@@ -30,6 +30,12 @@ public:
     return Shape == MpmShape::Linear ? 2.0 * c_.cell_size : 2.0 * (c_.cell_size + extent);
   }
   std::size_t nodes() const override { return key_.size(); }
+  std::size_t bytes() const override {
+    return allocatedBytes(walls_, radius_, start_, X_, begin_, entryKey_, node_, S_, grad_, first_,
+                          key_, box_, head_, site_, next_, fieldOf_, mass_, volume_, momentum_,
+                          force_, velocity_, increment_, gradV_, beforeContact_, nodeLoad_,
+                          nodeMass_, area_, rigid_, rigidV_);
+  }
 
   void project(const MpmParticles<Dim>& P, std::span<const std::uint32_t> order,
                double dt) override {

@@ -5,6 +5,7 @@
 #include "spall/core/Threads.hpp"
 #include "spall/solvers/SphSolver.hpp"
 
+#include "spall/core/MemoryAccounting.hpp"
 #include "spall/core/SymmetricEigen.hpp"
 #include "spall/core/SymmetricTensor.hpp"
 #include "spall/kernels/Kernels.hpp"
@@ -193,6 +194,13 @@ public:
     return psi_.nodesPerH(root<Dim>(s_[f_.sumWH][i]));
   }
 
+  std::size_t scratchBytes() const override {
+    return allocatedBytes(areaMass_, ringR_, rowScratch_, sOverRho_, artificialStress_, strainRate_,
+                          isochoric_, rhoPrev_, divNew_, curlNew_, anisoRow_, cellSecond_,
+                          cellClosed_) +
+           cracks_.bytes();
+  }
+
 private:
   // Lam et al. (2001) Eqs. 20-21 in tensor form, dv_i/dt = sum_j m_j (sigma_i/rho_i^2 +
   // sigma_j/rho_j^2 - Pi_ij I) . grad_i W_ij, with sigma = -p I + S. Hydro decks have S = 0, so
@@ -225,7 +233,7 @@ private:
   // gathers of a neighbor, packed).
   void prepareAnisoRows() {
     const auto Hs = s_[f_.H];
-    anisoRow_.resize(s_.size());
+    resizeWithHeadroom(anisoRow_, s_.size());
 #pragma omp parallel for schedule(static) if (threaded(s_.size()))
     for (std::size_t j = 0; j < s_.size(); ++j)
       anisoRow_[j] = {Hs[j].transpose() * Hs[j], K::sigma() * Hs[j].determinant()};
@@ -246,8 +254,8 @@ private:
     if (cfg_.geometry != Geometry::RZ) return m;
     const auto x = s_[f_.x];
     const auto h = s_[f_.h];
-    areaMass_.resize(s_.size());
-    ringR_.resize(s_.size());
+    resizeWithHeadroom(areaMass_, s_.size());
+    resizeWithHeadroom(ringR_, s_.size());
 #pragma omp parallel for schedule(static) if (threaded(s_.size()))
     for (std::size_t j = 0; j < s_.size(); ++j) {
       ringR_[j] = rz::radius(x[j][0], h[j]);

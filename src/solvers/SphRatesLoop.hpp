@@ -32,7 +32,8 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl, std::size_
   [[maybe_unused]] const bool rz = cfg_.geometry == Geometry::RZ;
   const auto divv = balsara ? s_[f_.divv] : std::span<double>{};
   const auto curlv = balsara ? s_[f_.curlv] : std::span<double>{};
-  if (balsara) divNew_.resize(s_.localCount()), curlNew_.resize(s_.localCount());
+  if (balsara)
+    resizeWithHeadroom(divNew_, s_.localCount()), resizeWithHeadroom(curlNew_, s_.localCount());
   const auto Sdev = Solid ? s_[f_.S] : std::span<Tensor<3>>{};
   const auto Lgrad = Solid ? s_[f_.L] : std::span<Tensor<3>>{};
   // S_j / rho_j^2 (or S_j / rho_j for the product form) of every row, ghosts included, once:
@@ -44,7 +45,7 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl, std::size_
   // f_ij = W(r_ij)/W(dp) with dp = h/n_h, the initial spacing in units of h.
   [[maybe_unused]] const double invWdp = 1.0 / K::f(1.0 / cfg_.nodes_per_h);
   if constexpr (Solid) {
-    sOverRho_.resize(s_.size());
+    resizeWithHeadroom(sOverRho_, s_.size());
 #pragma omp parallel for schedule(static) if (threaded(s_.size()))
     for (std::size_t j = 0; j < s_.size(); ++j)
       sOverRho_[j] = SymTensor<Dim>::symmetricPart(Sdev[j]) / (product ? rho[j] : rho[j] * rho[j]);
@@ -52,8 +53,8 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl, std::size_
     // owned rows must read the previous loop's L, as ghosts do: else the sums depend on the
     // row order, and so on the rank count).
     if (reconstruct) {
-      strainRate_.resize(s_.size());
-      isochoric_.resize(s_.size());
+      resizeWithHeadroom(strainRate_, s_.size());
+      resizeWithHeadroom(isochoric_, s_.size());
 #pragma omp parallel for schedule(static) if (threaded(s_.size()))
       for (std::size_t j = 0; j < s_.size(); ++j) {
         const MatD Lj = Lgrad[j].template topLeftCorner<Dim, Dim>();
@@ -65,7 +66,7 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl, std::size_
       }
     }
     if (artificialStress) {
-      artificialStress_.resize(s_.size());
+      resizeWithHeadroom(artificialStress_, s_.size());
       // Only solids: a fluid in a multi-material deck keeps the plain pressure term.
       const auto mat = s_[f_.material];
 #pragma omp parallel for schedule(static) if (threaded(s_.size()))
@@ -89,13 +90,14 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl, std::size_
   const auto mass = s_[f_.m];
   // What the pair loop needs of a neighbor j that depends on j alone, once per row and packed
   // together: the pair loop is left with one division (1/r) and one square root.
-  if constexpr (Aniso) prepareAnisoRows(), cellSecond_.resize(n), cellClosed_.resize(n);
+  if constexpr (Aniso)
+    prepareAnisoRows(), resizeWithHeadroom(cellSecond_, n), resizeWithHeadroom(cellClosed_, n);
   // The pair term's form and the Balsara switch enter as per-row factors, so that the pair
   // loop has no branch on them: q = p/rho^2 and s = 1 (rho^2 form) or q = p and s = 1/rho
   // (product form), the pressure term being (q_i + q_j) s_i s_j; f = the Balsara factor, or 1.
   // (A multiplication by exactly 1 changes no bit: the rho^2 form without Balsara computes what
   // it computed when each was an instantiation of its own.)
-  rowScratch_.resize(s_.size());
+  resizeWithHeadroom(rowScratch_, s_.size());
 #pragma omp parallel for schedule(static) if (threaded(s_.size()))
   for (std::size_t j = 0; j < s_.size(); ++j) {
     const double hjInv = 1.0 / h[j];

@@ -232,6 +232,8 @@ public:
       if (c->info().name == name) return c.get();
     return nullptr;
   }
+  // The columns' allocated rows (owned, ghosts and headroom), every field's bytes.
+  std::size_t fieldBytes() const { return capacity_ * bytesPerParticle(); }
   std::size_t bytesPerParticle() const {
     std::size_t b = 0;
     for (const auto& c : columns_) b += c->bytesPerParticle();

@@ -3,6 +3,7 @@
 // counters and its restartable state. The run loop (app/) keeps time, output, checkpoints and
 // signals, and knows nothing of how a method steps (SPH and ASPH now, MPM next).
 #include "spall/core/Error.hpp"
+#include "spall/core/MemoryAccounting.hpp"
 #include "spall/diagnostics/Fragments.hpp"
 #include "spall/io/Checkpoint.hpp"
 #include "spall/methods/Module.hpp"
@@ -12,6 +13,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 namespace spall::methods {
 
@@ -55,6 +57,9 @@ public:
   // A module joining the running method, last in the list (a failed run's replay adds the
   // deformation gradient): its fields are registered now, and the caller sets their values.
   virtual void addModule(std::unique_ptr<Module<Dim>> module) = 0;
+  // The bytes this rank's method holds allocated beyond the particle fields, by part
+  // (summary.json's "memory_parts"): neighbor lists, the halo's plan, solver scratch, MPM's grid.
+  virtual std::vector<MemoryPart> memoryParts() const = 0;
 };
 
 } // namespace spall::methods

@@ -29,6 +29,13 @@ public:
   solvers::GridNodes<Dim> gridNodes() override;
   void save(io::CheckpointState& st) const override;
   void restore(const io::CheckpointState& st) override;
+  std::vector<MemoryPart> memoryParts() const override {
+    return {{"halo", this->haloBytes()},
+            {"mpm_grid", grid_ ? grid_->bytes() : 0},
+            {"solver_scratch",
+             allocatedBytes(fixedRow_, order_, L_, work_, rhoMid_, reach_, boxReach_) +
+                 this->loadBytes() + this->cellGridBytes()}};
+  }
 
 private:
   using Base = ParticleMethod<Dim>;

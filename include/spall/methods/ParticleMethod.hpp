@@ -64,6 +64,11 @@ protected:
   // support: what friends of friends links across rank borders.
   virtual void exchangeHalo() = 0;
 
+  // The parts every particle method has: the halo's plan, the cell grid, the loads' scratch.
+  std::size_t haloBytes() const { return halo_.bytes(); }
+  std::size_t cellGridBytes() const { return grid_.bytes(); }
+  std::size_t loadBytes() const { return allocatedBytes(externalForce_); }
+
   ExternalLoad externalLoad(double time) const; // all ranks
   void bookExternal(double dt, const ExternalLoad& now);
   // A method whose loads act through the whole step from one state (MPM): dt times their load.

@@ -38,6 +38,12 @@ public:
   void evaluate(std::int64_t step, double time) override;
   void advance(double dt, std::int64_t step, double time) override;
   double support() const override { return solver_->support(); }
+  std::vector<MemoryPart> memoryParts() const override {
+    return {{"neighbor_lists", neighbors_.bytes() + verlet_.bytes() + this->cellGridBytes()},
+            {"halo", this->haloBytes()},
+            {"solver_scratch", solver_->scratchBytes() + allocatedBytes(reach_, boxReach_) +
+                                   boundaries_.bytes() + this->loadBytes()}};
+  }
 
 private:
   using Base = ParticleMethod<Dim>;

@@ -4,6 +4,7 @@
 // supports (ASPH) when either support covers the other particle: the symmetrised
 // (gather-scatter) interaction of the SPH equations needs both sides' supports. Lists are built
 // for owned particles only, in compressed rows of 32-bit indices (memory: ~4 bytes per pair).
+#include "spall/core/MemoryAccounting.hpp"
 #include "spall/core/Threads.hpp"
 #include "spall/core/Types.hpp"
 
@@ -31,6 +32,7 @@ struct NeighborList {
     const std::uint32_t* row = indices.data() + offsets[i];
     return {row, counts.empty() ? indices.data() + offsets[i + 1] : row + counts[i]};
   }
+  std::size_t bytes() const { return allocatedBytes(offsets, indices, counts); }
 };
 
 // A rank-count-independent order of particles: ids, then positions to tell a particle's periodic
@@ -152,6 +154,8 @@ public:
       }
     }
   }
+
+  std::size_t bytes() const { return allocatedBytes(start_, cellOf_, members_, xs_, rs_); }
 
 private:
   double size_ = 1.0, inv_ = 1.0;
@@ -405,7 +409,7 @@ void buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
       base[c + 1] = base[c] + parts[c].size();
       extras += parts[c].extra.size();
     }
-    if (base[chunks] > out.indices.size()) out.indices.resize(base[chunks]);
+    if (base[chunks] > out.indices.size()) resizeWithHeadroom(out.indices, base[chunks]);
     std::uint32_t* list = out.indices.data();
     const auto place = [&](std::size_t c) {
       std::memmove(list + base[c], list + parts[c].start, parts[c].used * sizeof(std::uint32_t));
@@ -443,7 +447,7 @@ void buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
   // Merge them into the rows in place: grow the index array once, then move rows back to front
   // to their final place, each row's own gathers first, then its group.
   const std::size_t gathered = out.indices.size();
-  out.indices.resize(gathered + extra.size());
+  resizeWithHeadroom(out.indices, gathered + extra.size());
   std::size_t write = out.indices.size();
   for (std::size_t i = owned; i-- > 0;) {
     const std::uint64_t begin = out.offsets[i], end = out.offsets[i + 1];

@@ -102,14 +102,14 @@ public:
   void filter(std::span<const Vec<Dim>> x, std::span<const double> h,
               std::span<const Tensor<Dim>> H, double support) {
     const std::size_t owned = wide_.offsets.size() - 1, n = x.size();
-    radius_.resize(n);
+    resizeWithHeadroom(radius_, n);
 #pragma omp parallel for schedule(static) if (threaded(n))
     for (std::size_t a = 0; a < n; ++a) radius_[a] = support * h[a];
     const bool ellipsoidal = !H.empty();
     const double support2 = support * support;
     if (ellipsoidal) {
-      G_.resize(n);
-      inner2_.resize(n);
+      resizeWithHeadroom(G_, n);
+      resizeWithHeadroom(inner2_, n);
 #pragma omp parallel for schedule(static) if (threaded(n))
       for (std::size_t a = 0; a < n; ++a) {
         G_[a] = H[a].transpose() * H[a];
@@ -194,6 +194,11 @@ public:
   // kept in that order; empty otherwise (then pairs coming into reach are appended).
   std::vector<std::uint32_t>& places() {
     return places_;
+  }
+
+  // The wide list and what the filter keeps beside it.
+  std::size_t bytes() const {
+    return wide_.bytes() + allocatedBytes(x0_, h0_, H0_, radius_, inner2_, G_, places_);
   }
 
 private:

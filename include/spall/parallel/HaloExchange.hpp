@@ -10,6 +10,7 @@
 // of one of r's boxes b: then every pair (i, j) with |x_i - x_j| < max(reach_i, reach_j) is
 // complete on the rank that owns i, which is what the symmetric SPH sums need. With per-axis
 // reaches (ellipsoids) the same test holds axis by axis.
+#include "spall/core/MemoryAccounting.hpp"
 #include "spall/core/ParticleStore.hpp"
 #include "spall/core/Types.hpp"
 
@@ -48,6 +49,14 @@ public:
   void refresh(ParticleStore& s, std::span<const std::size_t> fields);
 
   std::size_t ghosts() const { return received_; }
+  // The plan's bytes (the rows to send and their shifts); the messages are made per exchange.
+  std::size_t bytes() const {
+    std::size_t b =
+        allocatedBytes(periodic_, boxes_, rankBox_, rows_, codes_, shifts_, reachScratch_);
+    for (const auto& r : rows_) b += allocatedBytes(r);
+    for (const auto& c : codes_) b += allocatedBytes(c);
+    return b;
+  }
 
 private:
   struct Box {

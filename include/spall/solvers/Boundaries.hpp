@@ -49,6 +49,8 @@ public:
   void holdVelocity(std::span<Vec<Dim>> x, std::span<const double> h, std::span<Vec<Dim>> v,
                     std::span<double> e) const;
   std::vector<parallel::PeriodicAxis> periodicAxes() const;
+  // Which ghost images which row, across which wall.
+  std::size_t bytes() const { return allocatedBytes(source_, wallOf_); }
   // Copies the listed columns of each image from its source again (reflected where flagged; the
   // position mirrored across the plane), after they changed on the source (a step's positions,
   // the density pass, the kernel correction).

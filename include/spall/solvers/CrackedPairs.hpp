@@ -14,6 +14,7 @@
 // every neighbor list satisfies: so rows i and j find the same k, the pair is cracked from both
 // sides or neither (momentum stays conserved), and what a row decides does not depend on which
 // rank owns its neighbors.
+#include "spall/core/MemoryAccounting.hpp"
 #include "spall/core/Types.hpp"
 #include "spall/neighbors/NeighborList.hpp"
 
@@ -72,6 +73,8 @@ public:
     }
     return false;
   }
+
+  std::size_t bytes() const { return allocatedBytes(failed_, start_, list_); }
 
 private:
   std::vector<std::uint8_t> failed_;

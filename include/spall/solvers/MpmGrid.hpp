@@ -40,6 +40,7 @@
 // untouched (no friction) and fields moving apart are free (no tension). With two fields the
 // normals are opposite and the corrections conserve momentum exactly; with more, the node's
 // momentum to the normals' spread.
+#include "spall/core/MemoryAccounting.hpp"
 #include "spall/core/Types.hpp"
 #include "spall/solvers/Config.hpp"
 #include "spall/solvers/GridNodes.hpp"
@@ -103,6 +104,8 @@ public:
                                   std::span<const std::uint32_t> order) = 0;
   // Lattice nodes touched, for the statistics (the last project()).
   virtual std::size_t nodes() const = 0;
+  // The bytes its nodes and the points' entries hold allocated (summary.json's memory parts).
+  virtual std::size_t bytes() const = 0;
   // How far (per axis, m) a particle reaches its nodes' other particles, when no point's
   // weights reach further than `extent` from it beyond a cell (GIMP: its half-width l_p; CPDI:
   // its domain's half-extent along the axis, sum_i |r_i,a|): what the halo must bring so that

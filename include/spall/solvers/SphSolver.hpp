@@ -36,6 +36,8 @@ public:
   virtual std::pair<double, std::size_t> stableTimeStep() const = 0;
   // The effective nodes per h measured by the last computeRates, for diagnostics.
   virtual double nodesPerH(std::size_t i) const = 0;
+  // The bytes its per-row scratch holds allocated (summary.json's memory accounting).
+  virtual std::size_t scratchBytes() const = 0;
 };
 
 struct SolverSetup {
