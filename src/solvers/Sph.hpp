@@ -195,9 +195,9 @@ public:
   }
 
   std::size_t scratchBytes() const override {
-    return allocatedBytes(areaMass_, ringR_, rowScratch_, sOverRho_, artificialStress_, strainRate_,
-                          isochoric_, rhoPrev_, divNew_, curlNew_, anisoRow_, cellSecond_,
-                          cellClosed_) +
+    return allocatedBytes(areaMass_, ringR_, rowScratch_, sOverRho_, artificialStress_, tensile_,
+                          strainRate_, isochoric_, rhoPrev_, divNew_, curlNew_, anisoRow_,
+                          cellSecond_, cellClosed_) +
            cracks_.bytes();
   }
 
@@ -278,6 +278,7 @@ private:
   // Symmetric, so stored as such (core/SymmetricTensor.hpp): 48 bytes a row each in 3D, not 72.
   std::vector<SymTensor<Dim>> sOverRho_;         // scratch of the force loop (solids)
   std::vector<SymTensor<Dim>> artificialStress_; // R of every row (solids, when enabled)
+  std::vector<std::uint8_t> tensile_;            // R != 0: the row is in tension
   std::vector<SymTensor<Dim>> strainRate_;       // sym L of every row (reconstructed viscosity)
   std::vector<double> isochoric_;                // pair::isochoricGate of every row
   // Marks the failed rows (ghosts included); whether any row failed at all.

@@ -38,6 +38,12 @@ template <int Dim> struct SymTensor {
 
   static SymTensor zero() { return SymTensor{}; }
 
+  bool nonzero() const {
+    for (double x : a)
+      if (x != 0.0) return true;
+    return false;
+  }
+
   Tensor<Dim> full() const {
     Tensor<Dim> m;
     for (int r = 0; r < Dim; ++r)
