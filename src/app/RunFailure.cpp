@@ -1,5 +1,6 @@
 #include "Simulation.hpp"
 
+#include "spall/app/FailureHint.hpp"
 #include "spall/methods/modules/DeformationGradient.hpp"
 
 #include <algorithm>
@@ -44,8 +45,10 @@ void Simulation<Dim>::explainFailure(const StepFailure& failure, Clock::time_poi
   // step's own state is finite too, but its next dt is below the floor.)
   const std::int64_t lastGood = f.step - 1;
   std::vector<std::string> rows;
+  double pMin = std::numeric_limits<double>::infinity(); // over the good steps sampled
   const auto sample = [&](std::int64_t step, double time, double dt) {
     const ParticleReport s = method_->particle(f.id);
+    if (step < f.step && std::isfinite(s.p)) pMin = std::min(pMin, s.p);
     // The rescue point's row has no step behind it in the file: its dt is nan.
     std::string row = fmt::format("{},{:.17g},{:.17g}", step, time, dt);
     for (int d = 0; d < Dim; ++d) row += fmt::format(",{:.17g}", s.x[static_cast<std::size_t>(d)]);
@@ -168,30 +171,21 @@ void Simulation<Dim>::explainFailure(const StepFailure& failure, Clock::time_poi
         "element {1} --material {2} --table {0}.ftable --state {0}_state.csv --substeps 1 "
         "--output {0}_replay.csv",
         (dir_ / stem).string(), (dir_ / "deck.toml").string(), material.name);
-  // What usually causes it, judged from the particle. (MPM has no neighbors to count.)
-  const bool mpm = deck_.solver.method == "mpm";
-  // Squeezed, or flung faster than any impact here (100 km/s).
-  const bool wild = compression > 2.0 || std::hypot(f.v[0], f.v[1], f.v[2]) > 1e5;
-  if (mpm && deck_.solver.contact == Contact::Frictionless && (wild || nonFinite))
-    text += "\n  hint: with MPM and solver.contact = \"frictionless\", a point of one body amid "
-            "another's material (debris) can be squeezed or flung: its field's nodes are held "
-            "where they move toward the other body, not where they move away. One velocity "
-            "field (\"welded\" or \"auto\") cannot do this; see decks/README.md, \"The material "
-            "point method\"";
-  else if (!mpm && (compression > 10.0 || hRatio < 0.1))
-    text += "\n  hint: compressed beyond any shock state (a shock compresses ~4-6x): particles "
-            "are interpenetrating or pairing. Where bodies meet, solver.contact = "
-            "\"frictionless\" and solver.stress_form = \"rho_product\" (the default) hold "
-            "them apart; also a smaller solver.cfl or a finer resolution";
-  else if (!mpm && f.neighbors < 3 * Dim)
-    text += "\n  hint: the particle has few neighbors: it has left its body (a fragment of one "
-            "particle); solids under tension: solver.artificial_stress";
-  else if (nonFinite)
-    text += "\n  hint: try a smaller solver.cfl; see decks/README.md, \"When a run fails\"";
-  else
-    text += fmt::format("\n  hint: a step below {:g} of run.end_time ({:.3e} s) counts as "
-                        "collapsed; see decks/README.md, \"When a run fails\"",
-                        kCollapse, kCollapse * deck_.run.end_time);
+  // What usually causes it, judged from the particle.
+  FailureSigns signs;
+  signs.mpm = deck_.solver.method == "mpm";
+  signs.asph = deck_.solver.method == "asph";
+  signs.frictionless = deck_.solver.contact == Contact::Frictionless;
+  signs.nonFinite = nonFinite;
+  signs.dimension = Dim;
+  signs.compression = compression;
+  signs.hRatio = hRatio;
+  signs.speed = std::hypot(f.v[0], f.v[1], f.v[2]);
+  signs.neighbors = static_cast<int>(f.neighbors);
+  signs.pMin = pMin;
+  signs.collapseFraction = kCollapse;
+  signs.endTime = deck_.run.end_time;
+  text += "\n  " + failureHint(signs);
   throw RunError(text, true);
 }
 
