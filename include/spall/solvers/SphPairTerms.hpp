@@ -82,6 +82,20 @@ Tensor<Dim> artificialStress(const Tensor<3>& S, double p, double rho, double ep
   sigma.diagonal().array() -= p;
   if constexpr (Dim == 1) {
     return Tensor<1>::Constant(sigma(0, 0) > 0.0 ? scale * sigma(0, 0) : 0.0);
+  } else if constexpr (Dim == 2) {
+    // In closed form (the eigen-solver took 8% of a 2D solid's step): the principal stresses
+    // m +- r, and with one of them tensile R = scale l1 P1, P1 = (sigma - l2 I)/(l1 - l2) the
+    // projector on the tensile axis. (The solver reads the lower triangle; so does this.)
+    const double a = sigma(0, 0), b = sigma(1, 0), d = sigma(1, 1);
+    const double m = 0.5 * (a + d), half = 0.5 * (a - d);
+    const double r = std::sqrt(half * half + b * b);
+    const double l1 = m + r, l2 = m - r;
+    if (l1 <= 0.0) return Tensor<2>::Zero();
+    Tensor<2> s;
+    s << a, b, b, d;
+    if (l2 > 0.0) return scale * s;
+    s.diagonal().array() -= l2;
+    return (scale * l1 / (2.0 * r)) * s; // l1 > 0 >= l2: 2 r = l1 - l2 >= l1 > 0
   } else {
     Eigen::SelfAdjointEigenSolver<Tensor<Dim>> eig;
     eig.computeDirect(sigma);
