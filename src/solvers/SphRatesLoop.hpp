@@ -161,9 +161,9 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl, std::size_
       Mrr = 0.0;
       Ri = artificialStress ? artificialStress_[i].full() : MatD::Zero();
     }
-    // A pair adds artificial stress only if one of the two is in tension (R != 0): most pairs
-    // of a body under compression skip its kernel value and products (taylor_bar_3d: the term
-    // took 17% of the step for every pair).
+    // A pair adds artificial stress only if one of the two is in tension (R != 0). A body
+    // compressed in every direction skips it; a flowing bar has a tensile principal stress (the
+    // hoop) almost everywhere, so over a Taylor bar this saves 1% (decks/README, the cost).
     [[maybe_unused]] const bool tensileI = Solid && artificialStress && tensile_[i];
     if constexpr (Corrected) Bi = Bcorr[i].template topLeftCorner<Dim, Dim>();
 
