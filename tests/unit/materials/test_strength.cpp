@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <numbers>
+#include <utility>
 #include <vector>
 
 using namespace spall;
@@ -427,6 +428,92 @@ TEST(StrengthZerilliArmstrong, ElasticBelowC0AndRelaxesWhenStopped) {
   EXPECT_LT(d / dt, 20.0);
   EXPECT_GT(qHeld, 1.02 * za.yieldStress(held.plasticStrain, 1.0, za.Troom)); // 3.9% above
   EXPECT_LT(qHeld, 0.9 * q);                                                  // 18% below
+}
+
+namespace {
+
+JohnsonCook jcCopper(bool plasticRate) {
+  JohnsonCook jc{G, 90e6, 292e6, 0.31, 0.025, 1.09, 1.0, 293.0, 1356.0, 383.0, 0.9};
+  jc.plasticRate = plasticRate;
+  return jc;
+}
+
+} // namespace
+
+// The returns' Newton steps in ln d take the slope d dY/dd from each model: it must be the
+// derivative of the model's own Y. Central differences in ln d with h = 1e-4 have a truncation
+// error of h^2/6 times the third ln-d derivative (~1e-9 of Y for these laws) and a round-off of
+// 1e-16 / 1e-4 of Y; 1e-7 of Y separates them from any wrong term (the smallest term here, C4 T
+// of the activated stress, is 3e-2 of Y). Plastic increments from 1e-10 to 1e-3 over 1e-8 s
+// (rates 1e-2 to 1e5/s, both sides of Johnson-Cook's reference rate, away from its kink at 1/s),
+// from no plastic strain and from 0.01 to 2, at room temperature and 600 K.
+TEST(PlasticReturn, SlopesAreTheDerivativesOfTheYieldStress) {
+  const double dt = 1e-8, h = 1e-4;
+  const auto check = [&](const auto& Yof, const char* model) {
+    for (double eps0 : {0.0, 0.01, 0.3, 2.0}) {
+      for (double d : {1e-10, 3e-9, 1e-6, 1e-3}) {
+        const YieldPoint y = Yof(eps0, d);
+        const double fd = (Yof(eps0, d * std::exp(h)).Y - Yof(eps0, d * std::exp(-h)).Y) / (2 * h);
+        EXPECT_NEAR(y.slope, fd, 1e-7 * y.Y) << model << " eps0 " << eps0 << " d " << d;
+        EXPECT_GT(y.slope, 0.0) << model;
+      }
+    }
+  };
+  for (double T : {294.0, 600.0}) {
+    const ZerilliArmstrong cu = zaCopper(), fe = zaIron();
+    check([&](double e, double d) { return cu.yieldAfter(e, d, dt, T); }, "ZA copper");
+    check([&](double e, double d) { return fe.yieldAfter(e, d, dt, T); }, "ZA iron");
+    for (bool plastic : {true, false}) {
+      const JohnsonCook jc = jcCopper(plastic);
+      const double thermal = jc.thermalFactor(T), total = jc.rateFactor(3e4);
+      check([&](double e, double d) { return jc.yieldAfter(e, d, dt, thermal, total); },
+            plastic ? "JC plastic rate" : "JC total rate");
+    }
+  }
+}
+
+// The return solves q - 3 G d = Y(d) to 1e-12 of q from any guess, useless ones included (0,
+// negative, NaN, beyond q/3G), and all agree on d; from the step's total deviatoric increment,
+// the guess the models pass, steady flow takes 3 evaluations. The bounds are what Newton in ln d
+// measures here; a wrong slope (linear convergence) or bisection in u needs 30 and more, the
+// Illinois regula falsi the return used before 13-16.
+TEST(PlasticReturn, NewtonInLnDConvergesFromAnyGuess) {
+  const double dt = 1e-8, rate = 1e4, eps0 = 0.3, T = 294.0;
+  const ZerilliArmstrong za = zaCopper();
+  const JohnsonCook jc = jcCopper(true);
+  const double thermal = jc.thermalFactor(T);
+  const auto yZa = [&](double d) { return za.yieldAfter(eps0, d, dt, T); };
+  const auto yJc = [&](double d) { return jc.yieldAfter(eps0, d, dt, thermal, 0.0); };
+  const auto run = [&](const auto& yield, const char* model) {
+    // the trial stress of a step of steady flow at `rate`: the flow stress at that plastic rate
+    // plus the elastic trial increment 3 G (rate dt)
+    const double dFlow = rate * dt, q = yield(dFlow).Y + 3.0 * G * dFlow;
+    const double hi = q / (3.0 * G);
+    // the models' guess, the total increment, is the plastic one of steady flow plus the elastic
+    // share (dY/dt) / 3G, here within a percent: 3 evaluations (measured 3); 10% off 4 (4), half
+    // or 1.5 times 5 (5); useless guesses start from q/3G: 10 (7-9)
+    const std::pair<double, int> guesses[] = {
+        {1.01 * dFlow, 3},  {0.99 * dFlow, 3}, {0.9 * dFlow, 4}, {1.1 * dFlow, 4},
+        {0.5 * dFlow, 5},   {1.5 * dFlow, 5},  {0.0, 10},        {-1.0, 10},
+        {std::nan(""), 10}, {1e-15 * hi, 10},  {1e-6 * hi, 10},  {0.5 * hi, 10},
+        {hi, 10},           {2.0 * hi, 10}};
+    for (const auto& [guess, most] : guesses) {
+      int evaluations = 0;
+      const auto counted = [&](double d) {
+        ++evaluations;
+        return yield(d);
+      };
+      const PlasticIncrement r = plasticIncrement(q, G, counted, guess);
+      EXPECT_LE(std::abs(q - 3.0 * G * r.d - r.Y), 1e-12 * q) << model << " guess " << guess;
+      // the Y of that d: the last Newton step's square, 1e-14 of q
+      EXPECT_NEAR(r.Y, yield(r.d).Y, 1e-13 * q) << model;
+      // |g| <= 1e-12 q moves d by at most 1e-12 q / (3 G + dY/dd) = 1e-12 q / 3G ~ 1e-9 of d
+      EXPECT_NEAR(r.d, dFlow, 1e-9 * dFlow) << model << " guess " << guess;
+      EXPECT_LE(evaluations, most) << model << " guess " << guess;
+    }
+  };
+  run(yZa, "ZA copper");
+  run(yJc, "JC copper");
 }
 
 TEST(EosDerivatives, DpDrhoMatchesFiniteDifferencesForEveryEos) {
