@@ -24,7 +24,7 @@ std::string failureHint(const FailureSigns& s) {
   // ASPH torn apart at km/s (the stability matrix's fine hydro cells at 6-10 km/s): a smaller
   // cfl fails more of them, and neither max_aspect_ratio, eos.min_pressure nor a relaxed shape
   // of H cures it (decks/README.md, "Safe defaults"); SPH finishes them.
-  if (s.asph && s.nonFinite && s.pMin < 0.0)
+  if (s.asph && (s.nonFinite || s.energy) && s.pMin < 0.0)
     return fmt::format(
         "hint: an ASPH particle in tension (pressure down to {:.3g} Pa over its last steps): "
         "ASPH is not yet stable where a body is torn apart at km/s, and a smaller solver.cfl "
@@ -33,6 +33,12 @@ std::string failureHint(const FailureSigns& s) {
         s.pMin);
   if (s.nonFinite)
     return "hint: try a smaller solver.cfl; see decks/README.md, \"When a run fails\"";
+  if (s.energy)
+    return "hint: a run that creates energy is blowing up, most often where particles pair or "
+           "interpenetrate; try a smaller solver.cfl or a finer resolution, and watch the "
+           "particle above from the last good state. "
+           "output.max_energy_error = 0 lets the run go on; see decks/README.md, \"When a run "
+           "fails\"";
   return fmt::format("hint: a step below {:g} of run.end_time ({:.3e} s) counts as collapsed; see "
                      "decks/README.md, \"When a run fails\"",
                      s.collapseFraction, s.collapseFraction * s.endTime);

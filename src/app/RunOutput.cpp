@@ -347,6 +347,7 @@ void Simulation<Dim>::record(double dt, std::int64_t step, Clock::time_point wal
     if (step % deck_.output.history_every_steps != 0 && time_ < deck_.run.end_time) return;
     const auto t = diagnostics::computeTotals(store_, f_, mpi_);
     last_ = t;
+    energyDue_ = true;
     const auto& stats = method_->stats();
     HistoryRow row{step, time_, dt, mpi_.sum(static_cast<std::uint64_t>(store_.localCount())), t,
                    // Wall seconds of the whole chain, so a restarted run's history reads on.

@@ -353,6 +353,7 @@ template <int Dim> void Simulation<Dim>::run(const RunOptions& options, const fs
     while (time_ < end * (1.0 - 1e-12) && step_ < deck_.run.max_steps) {
       dt = stepOnce(dt, wall0, false);
       watchTimeStep(dt);
+      watchEnergy(dt);
       const double wall = std::chrono::duration<double>(Clock::now() - wall0).count();
       log.progress(step_, time_, end, dt, particles(), wall,
                    mpi_.size() > 1 ? fmt::format("  imbalance {:.2f}", method_->stats().imbalance)

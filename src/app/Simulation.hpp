@@ -81,6 +81,7 @@ private:
   void keepRescuePoint(double dtNext, Clock::time_point wall0);
   [[noreturn]] void explainFailure(const StepFailure& failure, Clock::time_point wall0);
   void watchTimeStep(double dt);
+  void watchEnergy(double dt);
   // Simulation.cpp: checkpoint state
   io::CheckpointState saveState(double dtNext, double wall) const;
   void restoreState(const io::CheckpointHeader& h, bool sameLayout);
@@ -144,6 +145,7 @@ private:
     bool valid = false;
   } rescue_;
   std::deque<double> recentDt_;
+  bool energyDue_ = false; // a history row was written this step: its energy is to be judged
   bool dtLow_ = false;
   int dtWarnings_ = 0;
 };

@@ -442,6 +442,8 @@ void DeckReader::readOutput(const TableReader& r, OutputConfig& o, double endTim
           "in [0, 100000] steps", static_cast<double>(o.failure_history));
   o.dt_warning = r.number("dt_warning").value_or(o.dt_warning);
   r.check(o.dt_warning >= 0.0 && o.dt_warning < 1.0, "dt_warning", "in [0, 1)", o.dt_warning);
+  o.max_energy_error = r.number("max_energy_error").value_or(o.max_energy_error);
+  r.check(o.max_energy_error >= 0.0, "max_energy_error", ">= 0 (0: off)", o.max_energy_error);
   o.recordWhere = r.whereValue("record_particles");
   o.record_particles = r.integers("record_particles").value_or(std::vector<std::int64_t>{});
   for (const std::int64_t id : o.record_particles)

@@ -110,7 +110,7 @@ const std::map<std::string, Names, std::less<>>& schema() {
       {"output",
        {"directory", "every", "every_steps", "fields", "grid", "history_every_steps",
         "progress_seconds", "progress_percent", "failure_history", "dt_warning",
-        "record_particles"}},
+        "max_energy_error", "record_particles"}},
       {"checkpoint", {"every_steps", "every_wall_seconds", "keep"}},
       {"fragments", {"link_length", "damage_threshold"}},
       {"penetration", {"penetrator", "target", "surface", "direction"}},

@@ -9,7 +9,8 @@ struct FailureSigns {
   bool mpm = false;          // solver.method = "mpm" (no neighbors to count)
   bool asph = false;         // solver.method = "asph"
   bool frictionless = false; // solver.contact = "frictionless"
-  bool nonFinite = false;    // a field went non-finite (else the step collapsed)
+  bool nonFinite = false;    // a field went non-finite (else the step collapsed or...)
+  bool energy = false;       // ... the run created energy (output.max_energy_error)
   int dimension = 3;
   double compression = 1.0; // density over its material's reference
   double hRatio = 1.0;      // h over its body's spacing

@@ -48,7 +48,7 @@ private:
 // the particle that sets (or collapsed) the time step. The owner rank fills it; every rank holds
 // the same copy (it travels as bytes).
 struct ParticleReport {
-  enum class Kind : std::int32_t { NonFinite, Collapse };
+  enum class Kind : std::int32_t { NonFinite, Collapse, Energy };
   Kind kind = Kind::NonFinite;
   std::uint64_t id = 0;
   std::int32_t material = -1, body = -1, neighbors = 0;

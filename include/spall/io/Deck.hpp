@@ -189,6 +189,11 @@ struct OutputConfig {
   std::int64_t failure_history = 20;
   // A warning when dt falls below this fraction of its median over the last 100 steps (0: off).
   double dt_warning = 0.1;
+  // The run stops (exit 1, explained as a failure) when its total energy departs from the
+  // initial energy plus the work of external forces by more than this fraction of the energy
+  // scale, K0 + |U0| + |W| (0: never). No scheme here creates energy: a run that does is blowing
+  // up, however slowly its time step falls.
+  double max_energy_error = 1.0;
   // Particle ids whose deformation gradient and stress are written every step
   // (particles/particle_ID.ftable and .csv; `spall history`, `spall element`).
   std::vector<std::int64_t> record_particles;

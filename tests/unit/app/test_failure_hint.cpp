@@ -73,3 +73,21 @@ TEST(FailureHint, EarlierSignaturesComeFirst) {
   s.frictionless = false;
   EXPECT_TRUE(says(failureHint(s), "1e-10 of run.end_time (1.000e-15 s) counts as collapsed"));
 }
+
+// A run stopped for creating energy (output.max_energy_error): its own advice, not the collapse's
+// floor; the ASPH-in-tension signature still wins (the 6 km/s al_al cell that crawled stops with
+// an ASPH projectile particle that was at -1.8e10 Pa).
+TEST(FailureHint, CreatedEnergyNamesTheBoundAndKeepsTheAsphSignature) {
+  FailureSigns s = plain();
+  s.nonFinite = false;
+  s.energy = true;
+  const std::string h = failureHint(s);
+  EXPECT_TRUE(says(h, "creates energy")) << h;
+  EXPECT_TRUE(says(h, "output.max_energy_error = 0")) << h;
+  EXPECT_FALSE(says(h, "counts as collapsed")) << h;
+  s.asph = true;
+  s.pMin = -1.8e10;
+  EXPECT_TRUE(says(failureHint(s), "solver.method = \"sph\"")) << failureHint(s);
+  s.compression = 12.0;
+  EXPECT_TRUE(says(failureHint(s), "compressed beyond any shock state"));
+}
