@@ -23,10 +23,11 @@ so its bound is 1e-2, still decades below a runaway. SPH must finish every cell.
 stable in every impact (the jet with strength at the coarse resolution; at the fine one, al_al at
 10 km/s and cu_al at 6 and 10 km/s go non-finite within 1-3 us): an ASPH cell out of its reach
 must end in exit 1 with the diagnostic and a checkpoint of the last good state (issue 19).
-Measured at e7d453c: al_al at 6 km/s, fine, ASPH no longer goes non-finite but crawls (its step
-at 7e-6 of the first by 1.2 us, energy error 8 when stopped after 300 s): that cell would reach
-the timeout, and this long test fail, until ASPH is stable there (decks/README.md, "Safe
-defaults").
+Measured at e7d453c: al_al at 6 km/s, fine, ASPH no longer goes non-finite but crawled (its step
+at 7e-6 of the first by 1.2 us, energy error 8 when stopped after 300 s) into the timeout; since
+output.max_energy_error (default 1) it stops at step 999, in 7 s, with the diagnostic and a
+checkpoint: out of reach, as such a cell must end (decks/README.md, "Safe defaults", "When a run
+fails").
 """
 import json
 import subprocess

@@ -192,7 +192,7 @@ struct OutputConfig {
   // The run stops (exit 1, explained as a failure) when its total energy departs from the
   // initial energy plus the work of external forces by more than this fraction of the energy
   // scale, K0 + |U0| + |W| (0: never). No scheme here creates energy: a run that does is blowing
-  // up, however slowly its time step falls.
+  // up, however slowly its time step falls. Not judged with a fixed body (its work is not booked).
   double max_energy_error = 1.0;
   // Particle ids whose deformation gradient and stress are written every step
   // (particles/particle_ID.ftable and .csv; `spall history`, `spall element`).
