@@ -75,7 +75,7 @@ struct YieldPoint {
 // Zerilli-Armstrong laws (e^u, the power e^(k u) of the rate and the root of the strain are
 // convex in u, and so are their increasing products), so from its first step on Newton
 // approaches the root from above, quadratically. In d itself the rate's power or log bends g so
-// sharply near d = 0 that a secant crawls (the Illinois regula falsi this replaced took 13
+// sharply near d = 0 that a secant crawls (the Illinois regula falsi this replaced took 16
 // evaluations a return on the copper Taylor bar). `guess` is the step's total deviatoric
 // increment, the plastic one of steady flow; the bracket [lo, hi] of the signs seen so far
 // catches what no model here does (a step outside it bisects in u). Steady flow takes 3
