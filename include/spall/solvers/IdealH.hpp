@@ -57,6 +57,12 @@ double idealH(double h, double factor, double m, double rho, const SmoothingLimi
 // on a cubic one at n_h 1.5 it pushed back the wrong way: round ellipsoids grew ~11% per step
 // along a body diagonal, to an axis ratio of 2.41 everywhere within a few hundred steps. The cell
 // depends on positions alone, with no feedback through H, and continuously on them.
+// The shape is relaxed towards the cell's as the size is (half the correction's logarithm per
+// step, at most 20% per axis), not taken at once: a particle torn from its neighbors at km/s sees
+// its cell change from one step to the next, and an ellipse that followed it flipped, lost
+// neighbors and blew up (tools/stress, 2D ASPH, coarse hydro cells: 5 of 9 finished with the
+// shape taken at once, 9 of 9 relaxed; fine, al_al and cu_al at 6 and 10 km/s: 0 of 4 and 4 of
+// 4). A lattice's cell is a fixed point either way.
 // Where the cell stays open (no neighbor on either side along some direction: cellSecond ==
 // nullptr) the shape is kept and only the size changes.
 // Limits: h_min <= every axis <= h_max, the longest axis <= h_max_ratio n_h (m/rho)^(1/nu) (as
@@ -71,14 +77,29 @@ void idealHTensor(Tensor<Dim>& H, double& h, double factor, const Tensor<Dim>* c
   Tensor<Dim> Q;
   const SymmetricEigen<Dim> cell =
       cellSecond ? symmetricEigen<Dim>(*cellSecond) : SymmetricEigen<Dim>{};
-  if (cellSecond && cell.values[0] > 1e-12 * cell.values[Dim - 1] && cell.values[0] > 0.0) {
-    // Ascending moments: the narrowest direction first, the largest 1/axis.
-    lambda = cell.values.cwiseSqrt().cwiseInverse();
-    Q = cell.vectors;
-  } else {
-    const SymmetricEigen<Dim> own = symmetricEigen<Dim>(0.5 * (H + H.transpose()));
-    lambda = own.values.cwiseMax(0.0);
-    Q = own.vectors;
+  const SymmetricEigen<Dim> own = symmetricEigen<Dim>(0.5 * (H + H.transpose()));
+  lambda = own.values.cwiseMax(0.0);
+  Q = own.vectors;
+  if (cellSecond && cell.values[0] > 1e-12 * cell.values[Dim - 1] && cell.values[0] > 0.0 &&
+      lambda[0] > 0.0) {
+    // The target shape (unit determinant): ascending moments, the narrowest direction first,
+    // the largest 1/axis.
+    Vec<Dim> target = cell.values.cwiseSqrt().cwiseInverse();
+    target /= root<Dim>(target.prod());
+    const Tensor<Dim> Ht = cell.vectors * target.asDiagonal() * cell.vectors.transpose();
+    // A step along the geodesic from the present shape towards it, relaxed as the size is
+    // (Eqs. 2-3): half the correction's logarithm, at most 20% per axis. M = S^-1 Ht S^-1
+    // (S = H^(1/2), unit determinant) holds the correction's ratios; H' = S f(M) S.
+    const Vec<Dim> sq = (lambda / root<Dim>(lambda.prod())).cwiseSqrt();
+    const Tensor<Dim> S = Q * sq.asDiagonal() * Q.transpose();
+    const Tensor<Dim> Sinv = Q * sq.cwiseInverse().asDiagonal() * Q.transpose();
+    Tensor<Dim> M = Sinv * Ht * Sinv;
+    const SymmetricEigen<Dim> corr = symmetricEigen<Dim>(0.5 * (M + M.transpose()));
+    const Vec<Dim> f = corr.values.cwiseMax(0.0).cwiseSqrt().cwiseMax(1.0 / 1.2).cwiseMin(1.2);
+    M = S * (corr.vectors * f.asDiagonal() * corr.vectors.transpose()) * S;
+    const SymmetricEigen<Dim> next = symmetricEigen<Dim>(0.5 * (M + M.transpose()));
+    lambda = next.values.cwiseMax(0.0);
+    Q = next.vectors;
   }
   // The size within its floor: 1/size is the mean axis.
   const double hVolume = lim.nodesPerH * root<Dim>(m / rho);

@@ -35,18 +35,49 @@ TEST(IdealH, SphStaysWithinItsVolumeRatios) {
 
 TEST(IdealH, AsphMeanAxisStaysAboveItsVolumeFloor) {
   // A round H whose neighbors ask it to shrink ten times and whose Voronoi cell is a 2 by 0.5
-  // rectangle (second moment diag(a^2, b^2)/12): the axes take the cell's ratio, 4, the long one
-  // along x, and the mean axis stops at half the volume scale.
+  // rectangle (second moment diag(a^2, b^2)/12): the axes move towards the cell's ratio, 4, the
+  // long one along x, and the mean axis stops at half the volume scale.
   Tensor<2> H = Tensor<2>::Identity() / kVolumeH;
   double h = kVolumeH;
   Tensor<2> cell = Tensor<2>::Zero();
   cell(0, 0) = 4.0e-6 / 12.0, cell(1, 1) = 0.25e-6 / 12.0;
   idealHTensor<2>(H, h, 0.1, &cell, kM, kRho, kLimits);
-  const double meanAxis = 1.0 / std::sqrt(H.determinant());
-  EXPECT_NEAR(meanAxis, 0.5 * kVolumeH, 1e-12 * kVolumeH);
+  // One step: the shape is relaxed, half the correction's logarithm (each axis by sqrt(2)) capped
+  // at 20% per axis, so the ratio is 1.2^2 (exact up to rounding).
+  EXPECT_NEAR(1.0 / std::sqrt(H.determinant()), 0.5 * kVolumeH, 1e-12 * kVolumeH);
+  EXPECT_NEAR(H(1, 1) / H(0, 0), 1.44, 1e-12);
+  EXPECT_NEAR(H(0, 1), 0.0, 1e-12 * H(0, 0));
+  // Repeated, the log error halves once within the cap: after 60 steps 2^-50 of it remains.
+  for (int step = 1; step < 60; ++step) idealHTensor<2>(H, h, 0.1, &cell, kM, kRho, kLimits);
+  EXPECT_NEAR(1.0 / std::sqrt(H.determinant()), 0.5 * kVolumeH, 1e-12 * kVolumeH);
   EXPECT_NEAR(H(1, 1) / H(0, 0), 4.0, 1e-12);
   EXPECT_NEAR(H(0, 1), 0.0, 1e-12 * H(0, 0));
   EXPECT_NEAR(h, 1.0 / H(0, 0), 1e-18);
+}
+
+TEST(IdealH, AsphShapeStepIsRelaxedAndCapped) {
+  // The shape step, the geodesic from the present shape towards the cell's, taken from an
+  // ellipse at 30 degrees (axis ratio 2) towards a square cell: the correction's ratios are
+  // sqrt(2) and 1/sqrt(2) along the ellipse's axes, half their logarithm 2^(+-1/4) = 1.189 is
+  // below the 20% cap, so the axis ratio goes 2 -> 2^(1/2) with the directions kept, and the
+  // next step to 2^(1/4); a 4-to-1 ellipse takes the capped step to 4/1.44.
+  const double c = std::cos(0.5236), s = std::sin(0.5236);
+  Tensor<2> R;
+  R << c, -s, s, c;
+  const Tensor<2> square = Tensor<2>::Identity() * (1.0e-6 / 12.0);
+  for (const double ratio : {2.0, 4.0}) {
+    // Axes 2 mm and 2/ratio mm: within the floor (0.75 mm) and the cap (3 mm) before and after.
+    Tensor<2> H = R * Vec<2>(1.0 / 2.0e-3, ratio / 2.0e-3).asDiagonal() * R.transpose();
+    double h = 0.0;
+    idealHTensor<2>(H, h, 1.0, &square, kM, kRho, kLimits);
+    const SymmetricEigen<2> e = symmetricEigen<2>(H);
+    const double expected = ratio == 2.0 ? std::sqrt(2.0) : 4.0 / 1.44;
+    EXPECT_NEAR(e.values[1] / e.values[0], expected, 1e-12) << ratio;
+    // The long axis (the smaller eigenvalue's vector) still at 30 degrees.
+    EXPECT_NEAR(std::abs(e.vectors.col(0).dot(R.col(0))), 1.0, 1e-12) << ratio;
+    // The size (the determinant) unchanged at factor 1.
+    EXPECT_NEAR(std::sqrt(H.determinant()) * 2.0e-3, std::sqrt(ratio), 1e-12) << ratio;
+  }
 }
 
 TEST(IdealH, AsphOpenCellKeepsItsShape) {
