@@ -27,6 +27,8 @@ public:
   // times nodes_per_h, as SPH's at the start.
   double support() const override { return 2.0; }
   solvers::GridNodes<Dim> gridNodes() override;
+  // A fixed body's support acts on grid nodes, not through the points' a: not booked.
+  bool booksSupportWork() const override { return setup_.fixedBodies.empty(); }
   void save(io::CheckpointState& st) const override;
   void restore(const io::CheckpointState& st) override;
   std::vector<MemoryPart> memoryParts() const override {
