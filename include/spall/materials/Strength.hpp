@@ -111,11 +111,12 @@ PlasticIncrement plasticIncrement(double q, double G, const Yield& yield, double
 }
 
 // The return itself and its plastic heating dT = chi Y d / (rho c_p) (Austin 2013, Eq. 6.7): `out`
-// holds the trial stress, of von Mises stress q > Y(0); `L` and `dt` give the guess.
+// holds the trial stress, of von Mises stress q > Y(0); the guess is rate dt, `rate` the step's
+// equivalentStrainRate.
 template <class Yield>
 StrengthState plasticReturn(StrengthState out, double q, double G, const Yield& yield, double chi,
-                            double rhoCp, const Mat3& L, double dt) {
-  const auto [d, Y] = plasticIncrement(q, G, yield, equivalentStrainRate(L) * dt);
+                            double rhoCp, double rate, double dt) {
+  const auto [d, Y] = plasticIncrement(q, G, yield, rate * dt);
   out.S *= Y / q;
   out.plasticStrain += d;
   out.temperature += chi * Y * d / rhoCp;
@@ -203,13 +204,17 @@ struct JohnsonCook {
       out.S.setZero();
       return out;
     }
-    const double rateTotal = plasticRate ? 0.0 : rateFactor(equivalentStrainRate(L));
+    // The step's equivalent strain rate: the rate factor's with strain_rate = "total", the
+    // return's guess with either (computed once).
+    const double rate = plasticRate ? -1.0 : equivalentStrainRate(L);
+    const double rateTotal = plasticRate ? 0.0 : rateFactor(rate);
     const auto yield = [&](double d) {
       return yieldAfter(s.plasticStrain, d, dt, thermal, rateTotal);
     };
     const double q = vonMisesStress(out.S);
     if (q <= yield(0.0).Y) return out;
-    return plasticReturn(out, q, G, yield, chi, rho * cp, L, dt);
+    return plasticReturn(out, q, G, yield, chi, rho * cp,
+                         rate < 0.0 ? equivalentStrainRate(L) : rate, dt);
   }
   double shearModulus() const { return G; }
 };
@@ -267,7 +272,7 @@ struct ZerilliArmstrong {
     const double q = vonMisesStress(out.S);
     if (q <= yieldStress(s.plasticStrain, 0.0, s.temperature)) return out;
     const auto yield = [&](double d) { return yieldAfter(s.plasticStrain, d, dt, s.temperature); };
-    return plasticReturn(out, q, G, yield, chi, rho * cp, L, dt);
+    return plasticReturn(out, q, G, yield, chi, rho * cp, equivalentStrainRate(L), dt);
   }
   double shearModulus() const { return G; }
 };
