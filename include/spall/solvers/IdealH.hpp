@@ -44,6 +44,66 @@ double idealH(double h, double factor, double m, double rho, const SmoothingLimi
   return std::clamp(hNew, lim.hMin, lim.hMax);
 }
 
+// The shape's step of idealHTensor: along the geodesic from the shape of H (symmetric positive
+// definite) towards the cell's, C^(-1/2) of its second moment C, both at unit determinant, half
+// the correction's logarithm and at most kShapeStep per axis. M = S^-1 H_cell S^-1 (S = H^(1/2))
+// holds the correction's ratios; the step is S f(M) S with f the square root clamped to
+// [1/kShapeStep, kShapeStep]. False where C or H is degenerate (the shape is kept).
+constexpr double kShapeStep = 1.2;
+template <int Dim> bool relaxedShape(const Tensor<Dim>& H, const Tensor<Dim>& C, Tensor<Dim>& out) {
+  if constexpr (Dim == 2) {
+    // Closed forms for unit-determinant symmetric positive definite 2x2 A, B (eigenvalues a,
+    // 1/a): A^-1 = adj A, A^(1/2) = (A + I) / sqrt(tr A + 2), and the geodesic's midpoint, the
+    // geometric mean, is (A + B) / sqrt(det(A + B)). The result's scale is free (the caller
+    // sets the size): out = A + B where the step is within the cap.
+    const auto adj = [](const Tensor<2>& A) {
+      Tensor<2> B;
+      B << A(1, 1), -A(0, 1), -A(1, 0), A(0, 0);
+      return B;
+    };
+    const double detH = H.determinant(), detC = C.determinant(), trC = C.trace();
+    if (!(detH > 0.0 && H(0, 0) > 0.0 && trC > 0.0 && detC > 1e-12 * trC * trC)) return false;
+    // C^(-1/2) at unit determinant: adj(C + d I), d = sqrt(det C), over sqrt(d (2 d + tr C)).
+    const double d = std::sqrt(detC);
+    const Tensor<2> target = adj(C + d * Tensor<2>::Identity()) / std::sqrt(d * (2.0 * d + trC));
+    const Tensor<2> A = H / std::sqrt(detH);
+    // tr M = tr(S^-1 target S^-1) = tr(target A^-1) = mu + 1/mu.
+    const double trM = (target * adj(A)).trace();
+    constexpr double cap2 = kShapeStep * kShapeStep;
+    if (trM <= cap2 + 1.0 / cap2) {
+      out = A + target;
+      return true;
+    }
+    // Beyond the cap: f(mu1) = kShapeStep, f(mu0) = 1/kShapeStep, by the projector on mu1's axis.
+    const Tensor<2> S = (A + Tensor<2>::Identity()) / std::sqrt(A.trace() + 2.0), Sinv = adj(S);
+    Tensor<2> M = Sinv * target * Sinv;
+    M = 0.5 * (M + M.transpose());
+    const double gap = std::sqrt(std::max(trM * trM - 4.0, 0.0)), mu0 = 0.5 * (trM - gap);
+    const Tensor<2> F = Tensor<2>::Identity() / kShapeStep +
+                        ((kShapeStep - 1.0 / kShapeStep) / gap) * (M - mu0 * Tensor<2>::Identity());
+    out = S * F * S;
+    return true;
+  } else {
+    const SymmetricEigen<Dim> cell = symmetricEigen<Dim>(C);
+    const SymmetricEigen<Dim> own = symmetricEigen<Dim>(H);
+    if (!(cell.values[0] > 1e-12 * cell.values[Dim - 1] && cell.values[0] > 0.0 &&
+          own.values[0] > 0.0))
+      return false;
+    Vec<Dim> target = cell.values.cwiseSqrt().cwiseInverse();
+    target /= root<Dim>(target.prod());
+    const Vec<Dim> sq = (own.values / root<Dim>(own.values.prod())).cwiseSqrt();
+    const Tensor<Dim> S = own.vectors * sq.asDiagonal() * own.vectors.transpose();
+    const Tensor<Dim> Sinv = own.vectors * sq.cwiseInverse().asDiagonal() * own.vectors.transpose();
+    Tensor<Dim> M = Sinv * (cell.vectors * target.asDiagonal() * cell.vectors.transpose()) * Sinv;
+    const SymmetricEigen<Dim> corr = symmetricEigen<Dim>(0.5 * (M + M.transpose()));
+    const Vec<Dim> f =
+        corr.values.cwiseMax(0.0).cwiseSqrt().cwiseMax(1.0 / kShapeStep).cwiseMin(kShapeStep);
+    out = S * (corr.vectors * f.asDiagonal() * corr.vectors.transpose()) * S;
+    out = 0.5 * (out + out.transpose());
+    return true;
+  }
+}
+
 // The ideal H: its size from Owen (2010) (Eqs. 1-4: n_h from Psi_0 = (sum W^H)^(1/nu) by the
 // tabulated Psi_0(n_h), s = n_h^target/n_h, a = 0.4 (1 + s^2) or 0.4 (1 + s^-3), and |H| scales
 // by (1 - a + a s)^-nu), its shape from the particle's Voronoi cell (solvers/VoronoiCell.hpp):
@@ -73,34 +133,12 @@ template <int Dim>
 void idealHTensor(Tensor<Dim>& H, double& h, double factor, const Tensor<Dim>* cellSecond, double m,
                   double rho, const SmoothingLimits& lim) {
   const double size = root<Dim>(std::abs(H.determinant())) / factor;
-  Vec<Dim> lambda;
-  Tensor<Dim> Q;
-  const SymmetricEigen<Dim> cell =
-      cellSecond ? symmetricEigen<Dim>(*cellSecond) : SymmetricEigen<Dim>{};
-  const SymmetricEigen<Dim> own = symmetricEigen<Dim>(0.5 * (H + H.transpose()));
-  lambda = own.values.cwiseMax(0.0);
-  Q = own.vectors;
-  if (cellSecond && cell.values[0] > 1e-12 * cell.values[Dim - 1] && cell.values[0] > 0.0 &&
-      lambda[0] > 0.0) {
-    // The target shape (unit determinant): ascending moments, the narrowest direction first,
-    // the largest 1/axis.
-    Vec<Dim> target = cell.values.cwiseSqrt().cwiseInverse();
-    target /= root<Dim>(target.prod());
-    const Tensor<Dim> Ht = cell.vectors * target.asDiagonal() * cell.vectors.transpose();
-    // A step along the geodesic from the present shape towards it, relaxed as the size is
-    // (Eqs. 2-3): half the correction's logarithm, at most 20% per axis. M = S^-1 Ht S^-1
-    // (S = H^(1/2), unit determinant) holds the correction's ratios; H' = S f(M) S.
-    const Vec<Dim> sq = (lambda / root<Dim>(lambda.prod())).cwiseSqrt();
-    const Tensor<Dim> S = Q * sq.asDiagonal() * Q.transpose();
-    const Tensor<Dim> Sinv = Q * sq.cwiseInverse().asDiagonal() * Q.transpose();
-    Tensor<Dim> M = Sinv * Ht * Sinv;
-    const SymmetricEigen<Dim> corr = symmetricEigen<Dim>(0.5 * (M + M.transpose()));
-    const Vec<Dim> f = corr.values.cwiseMax(0.0).cwiseSqrt().cwiseMax(1.0 / 1.2).cwiseMin(1.2);
-    M = S * (corr.vectors * f.asDiagonal() * corr.vectors.transpose()) * S;
-    const SymmetricEigen<Dim> next = symmetricEigen<Dim>(0.5 * (M + M.transpose()));
-    lambda = next.values.cwiseMax(0.0);
-    Q = next.vectors;
-  }
+  Tensor<Dim> shape;
+  const Tensor<Dim> Hs = 0.5 * (H + H.transpose());
+  const bool relaxed = cellSecond && relaxedShape<Dim>(Hs, *cellSecond, shape);
+  const SymmetricEigen<Dim> axes = symmetricEigen<Dim>(relaxed ? shape : Hs);
+  Vec<Dim> lambda = axes.values.cwiseMax(0.0);
+  const Tensor<Dim>& Q = axes.vectors;
   // The size within its floor: 1/size is the mean axis.
   const double hVolume = lim.nodesPerH * root<Dim>(m / rho);
   lambda *= std::min(size, 1.0 / (lim.hMinRatio * hVolume)) / root<Dim>(lambda.prod());

@@ -95,3 +95,26 @@ TEST(IdealH, AsphOpenCellKeepsItsShape) {
   EXPECT_LT((H - before / 0.8).norm(), 1e-12 * before.norm());
   EXPECT_NEAR(h, 2.4e-3, 1e-15);
 }
+
+TEST(IdealH, AsphShapeStepIn3DHalvesTheLogOfEachAxisRatio) {
+  // 3D (eigen-decompositions; 2D has closed forms): an ellipsoid with axes 1.5, 1, 1 mm turned
+  // about (1, 1, 1) towards a cubic cell: the unit-determinant shape's eigenvalues (2/3, 1, 1)
+  // over (2/3)^(1/3), corrected by their inverse square roots (1.145, 0.935, 0.935: within the
+  // 20% cap), become their square roots: the axis ratio 1.5 -> sqrt(1.5), the long axis where it
+  // was, the size kept.
+  const Eigen::AngleAxisd turn(0.7, Vec<3>(1.0, 1.0, 1.0).normalized());
+  const Tensor<3> R = turn.toRotationMatrix();
+  Tensor<3> H = R * Vec<3>(1.0 / 1.5e-3, 1.0 / 1.0e-3, 1.0 / 1.0e-3).asDiagonal() * R.transpose();
+  const double det = H.determinant();
+  const Tensor<3> cube = Tensor<3>::Identity() * (1.0e-6 / 12.0);
+  double h = 0.0;
+  const SmoothingLimits limits{kNh, 0.0, kInf, 0.0, kInf, 10.0}; // no bound on the size
+  idealHTensor<3>(H, h, 1.0, &cube, kM, kRho, limits);
+  // 1e-8: Eigen's direct 3x3 solver (trigonometric) resolves a double eigenvalue to ~2e-9.
+  const SymmetricEigen<3> e = symmetricEigen<3>(H);
+  EXPECT_NEAR(e.values[2] / e.values[0], std::sqrt(1.5), 1e-8);
+  EXPECT_NEAR(e.values[2] / e.values[1], 1.0, 1e-8);
+  EXPECT_NEAR(std::abs(e.vectors.col(0).dot(R.col(0))), 1.0, 1e-8);
+  EXPECT_NEAR(H.determinant() / det, 1.0, 1e-12);
+  EXPECT_NEAR(h, 1.0 / e.values[0], 1e-15);
+}
