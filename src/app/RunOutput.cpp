@@ -403,16 +403,28 @@ void Simulation<Dim>::finish(RunLog& log, const RunOptions& options, Clock::time
   const auto& t = last_;
   const double massErr = std::abs(t.mass - totals0_.mass) / totals0_.mass;
   double momScale = 0.0, momErr = 0.0;
-  // In rz the sum of m v_r is no conserved quantity (the hoop force is radial): z only.
+  // The components no unbooked force acts along: in rz the sum of m v_r is no conserved quantity
+  // (the hoop force is radial), and a rigid wall's force (its images' pairs, the hold) is not
+  // booked, so the components along its normal are left out. None left: not judged (NaN).
+  std::array<bool, 3> judged{deck_.run.geometry != Geometry::RZ, true, true};
+  for (const auto& b : deck_.boundaries)
+    if (b.type == "rigid_wall")
+      for (std::size_t d = 0; d < std::min<std::size_t>(3, b.normal.size()); ++d)
+        if (b.normal[d] != 0.0) judged[d] = false;
+  bool anyJudged = false;
   for (int d = deck_.run.geometry == Geometry::RZ ? 1 : 0; d < 3; ++d) {
     momScale = std::max(
         {momScale, std::abs(totals0_.momentum[d]), t.momentumScale[d], totals0_.momentumScale[d]});
-    // Less the impulse of external forces (a confining pressure, damping).
+    if (!judged[static_cast<std::size_t>(d)] || d >= Dim) continue;
+    anyJudged = true;
+    // Less the impulse of external forces (a confining pressure, damping, fixed bodies' supports).
     const double expected =
         totals0_.momentum[d] + method_->externalImpulse()[static_cast<std::size_t>(d)];
     momErr = std::max(momErr, std::abs(t.momentum[d] - expected));
   }
-  momErr = momScale > 0.0 ? momErr / momScale : 0.0;
+  momErr = !anyJudged       ? std::numeric_limits<double>::quiet_NaN()
+           : momScale > 0.0 ? momErr / momScale
+                            : 0.0;
   // What the total energy should be: the initial one plus the work of external forces (a
   // confining pressure, damping), judged against the larger of it and the final one.
   const double e0 = totals0_.total(), work = method_->externalWork();
@@ -454,8 +466,10 @@ void Simulation<Dim>::finish(RunLog& log, const RunOptions& options, Clock::time
       fmt::format("{}: {} steps to t = {:.6g} s (step {}) in {:.2f} s wall | {:.3g} "
                   "particle-steps/s ({:.3g} per core)",
                   stopSignal ? "stopped" : "done", steps, time_, step_, wall, rate, rate / cores()),
-      fmt::format("conservation: mass {:.1e} | momentum {:.1e} | total energy {:.1e} (relative)",
-                  massErr, momErr, energyErr),
+      fmt::format(
+          "conservation: mass {:.1e} | momentum {} | total energy {:.1e} (relative)", massErr,
+          std::isnan(momErr) ? std::string("n/a (rigid walls)") : fmt::format("{:.1e}", momErr),
+          energyErr),
       "time: " + shares};
   if (st.listBuilds > 0)
     lines.push_back(fmt::format("neighbors: {:.1f} per particle, searched {} times in {} "
@@ -518,7 +532,7 @@ void Simulation<Dim>::finish(RunLog& log, const RunOptions& options, Clock::time
       .value("reproducible", reproducible ? "true" : "false");
   JsonObject conservation;
   conservation.value("mass_relative", fmt::format("{:.6e}", massErr))
-      .value("momentum_relative", fmt::format("{:.6e}", momErr))
+      .value("momentum_relative", std::isnan(momErr) ? "null" : fmt::format("{:.6e}", momErr))
       .value("energy_relative", fmt::format("{:.6e}", energyErr));
   JsonObject summary;
   summary.text("deck", options.deckPath)
