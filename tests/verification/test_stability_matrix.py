@@ -25,7 +25,7 @@ and 10 km/s (~1 h on 2 cores; 3D ASPH takes minutes a cell and is left to `tools
 ASPH at the fine resolution is not yet stable in every impact: a debris particle in deep tension
 behind the plate can pair with a neighbor (3 to 13 times the reference density beside neighbors at
 0.4, the energy still within 1e-4) or fly apart (cu_al at 6 km/s with strength went non-finite at
-2.5 us; measured 17 of 18 finished, which ones depends on the last bits of the arithmetic). A fine
+2.5 us in one build; measured 17 or 18 of 18 finished, which depends on the last bits). A fine
 ASPH cell out of its reach must end in exit 1 with the diagnostic and a checkpoint of the last
 good state (issue 19), and its density is reported, not bounded; its energy bound is 1e-2.
 """
