@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 #include <sstream>
+#include <string>
+#include <vector>
 
 // `spall run` and `spall check`: the output directory, a new run or a restart, one dimension.
 namespace spall::app {
@@ -31,6 +33,22 @@ void prepareOutputDirectory(const fs::path& dir, const RunOptions& options) {
                     "them, --output DIR to write elsewhere or --restart latest to continue them",
                     dir.string()));
   for (const char* name : ours) fs::remove_all(dir / name);
+  // The files a run writes beside them, named by what they hold: a stale failure record would
+  // otherwise stand for the new run's (a run meeting the same failure keeps an existing one).
+  std::vector<fs::path> stale;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    if (!entry.is_regular_file()) continue;
+    const std::string name = entry.path().filename().string();
+    const auto endsWith = [&](const std::string& tail) {
+      return name.size() >= tail.size() &&
+             name.compare(name.size() - tail.size(), tail.size(), tail) == 0;
+    };
+    const bool record = name.starts_with("failure_step") || name.starts_with("particle_");
+    if (name == "penetration.csv" || name == "fragments.csv" ||
+        (record && (endsWith(".csv") || endsWith(".ftable"))))
+      stale.push_back(entry.path());
+  }
+  for (const auto& path : stale) fs::remove(path);
 }
 
 template <int Dim>

@@ -269,8 +269,17 @@ def main():
         r = run("run", good)
         check("refuses existing results", r.returncode == 2 and "--overwrite" in r.stderr, r.stderr)
         check("existing results untouched", os.path.getmtime(os.path.join(out, "history.csv")) == stamp, "")
+        # --overwrite removes what a run writes, the records beside the results too (a stale
+        # failure record would stand for the new run's), and nothing else.
+        for name in ("failure_step7_particle3.csv", "failure_step7_particle3.ftable",
+                     "particle_3.csv", "penetration.csv", "notes.txt"):
+            with open(os.path.join(out, name), "w") as f:
+                f.write("stale\n")
         r = run("run", good, "--overwrite", "--quiet", "--set", "run.end_time=2e-6")
         check("--overwrite runs", r.returncode == 0, r.stderr)
+        left = sorted(n for n in os.listdir(out) if n.startswith(("failure_", "particle_", "penetration")))
+        check("--overwrite removes stale records", left == [], str(left))
+        check("--overwrite keeps what is not a run's", os.path.exists(os.path.join(out, "notes.txt")), "")
         with open(os.path.join(out, "deck.toml")) as f:
             resolved = f.read()
         check("resolved deck holds the override", re.search(r"end_time\s*=\s*2(\.0)?e-0?6", resolved), resolved)
