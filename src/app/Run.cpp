@@ -39,13 +39,9 @@ void prepareOutputDirectory(const fs::path& dir, const RunOptions& options) {
   for (const auto& entry : fs::directory_iterator(dir)) {
     if (!entry.is_regular_file()) continue;
     const std::string name = entry.path().filename().string();
-    const auto endsWith = [&](const std::string& tail) {
-      return name.size() >= tail.size() &&
-             name.compare(name.size() - tail.size(), tail.size(), tail) == 0;
-    };
     const bool record = name.starts_with("failure_step") || name.starts_with("particle_");
     if (name == "penetration.csv" || name == "fragments.csv" ||
-        (record && (endsWith(".csv") || endsWith(".ftable"))))
+        (record && (name.ends_with(".csv") || name.ends_with(".ftable"))))
       stale.push_back(entry.path());
   }
   for (const auto& path : stale) fs::remove(path);
