@@ -9,9 +9,10 @@ void readSolver(const TableReader& r, SolverConfig& s) {
   s.method = r.choice("method", {"sph", "asph", "mpm"}, "sph");
   s.mpm.where = r.where();
   if (s.method == "mpm")
-    for (const char* key : {"kernel", "density", "stress_form", "artificial_viscosity",
-                            "artificial_stress", "velocity_gradient", "h_min", "h_max",
-                            "h_min_ratio", "h_max_ratio", "max_aspect_ratio", "neighbor_skin"})
+    for (const char* key :
+         {"kernel", "density", "stress_form", "artificial_viscosity", "artificial_stress",
+          "velocity_gradient", "h_min", "h_max", "h_min_ratio", "h_max_ratio", "max_aspect_ratio",
+          "shape_interval", "neighbor_skin"})
       if (r.has(key)) s.sphOnlyKeys.push_back(key);
   if (const auto* t = r.subtable("mpm")) {
     if (s.method != "mpm")
@@ -127,6 +128,11 @@ void readSolver(const TableReader& r, SolverConfig& s) {
           ">= 0 and <= h_max_ratio (" + formatNumber(s.h_max_ratio) + ")", s.h_min_ratio);
   s.max_aspect_ratio = r.number("max_aspect_ratio").value_or(s.max_aspect_ratio);
   r.check(s.max_aspect_ratio >= 1.0, "max_aspect_ratio", ">= 1", s.max_aspect_ratio);
+  if (const auto k = r.integer("shape_interval")) {
+    r.check(*k >= 1 && *k <= 64, "shape_interval", "an integer in [1, 64] (1: every step)",
+            static_cast<double>(*k));
+    s.shape_interval = static_cast<int>(*k);
+  }
   s.neighbor_skin = r.number("neighbor_skin").value_or(s.neighbor_skin);
   r.check(s.neighbor_skin >= 0.0 && s.neighbor_skin <= 1.0, "neighbor_skin",
           "in [0, 1] (0: a search every step)", s.neighbor_skin);

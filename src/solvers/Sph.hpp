@@ -151,8 +151,9 @@ public:
     for (std::size_t i = 0; i < s_.localCount(); ++i) {
       const double factor = sizeFactor(psi_.nodesPerH(root<Dim>(sumWH[i])), cfg_.nodes_per_h);
       if constexpr (Aniso) {
-        idealHTensor<Dim>(s_[f_.H][i], h[i], factor, cellClosed_[i] ? &cellSecond_[i] : nullptr,
-                          m[i], rho[i], lim);
+        const Tensor<Dim>& C = s_[f_.cellMoment][i]; // zero where the cell was open
+        idealHTensor<Dim>(s_[f_.H][i], h[i], factor, C(0, 0) > 0.0 ? &C : nullptr, m[i], rho[i],
+                          lim);
       } else {
         h[i] = idealH<Dim>(h[i], factor, m[i], rho[i], lim);
       }
@@ -196,8 +197,7 @@ public:
 
   std::size_t scratchBytes() const override {
     return allocatedBytes(areaMass_, ringR_, rowScratch_, sOverRho_, artificialStress_, tensile_,
-                          strainRate_, isochoric_, rhoPrev_, divNew_, curlNew_, anisoRow_,
-                          cellSecond_, cellClosed_) +
+                          strainRate_, isochoric_, rhoPrev_, divNew_, curlNew_, anisoRow_) +
            cracks_.bytes();
   }
 
@@ -326,10 +326,6 @@ private:
   std::vector<double> rhoPrev_;
   std::vector<double> divNew_, curlNew_; // this loop's div v, |curl v| (Balsara), owned rows
   std::vector<AnisoRow> anisoRow_;       // scratch of the ASPH loops
-  // The Voronoi cells of the last force loop, owned rows, for the next updateSmoothing (no
-  // migration in between): second moments, and whether the cell closed.
-  std::vector<Tensor<Dim>> cellSecond_;
-  std::vector<std::uint8_t> cellClosed_;
 };
 
 } // namespace spall::solvers::sph

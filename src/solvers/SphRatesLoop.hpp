@@ -93,8 +93,11 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl, std::size_
   const auto mass = s_[f_.m];
   // What the pair loop needs of a neighbor j that depends on j alone, once per row and packed
   // together: the pair loop is left with one division (1/r) and one square root.
-  if constexpr (Aniso)
-    prepareAnisoRows(), resizeWithHeadroom(cellSecond_, n), resizeWithHeadroom(cellClosed_, n);
+  if constexpr (Aniso) prepareAnisoRows();
+  [[maybe_unused]] const auto cellMoment = Aniso ? s_[f_.cellMoment] : std::span<Tensor<Dim>>{};
+  [[maybe_unused]] const auto cellAge = Aniso ? s_[f_.cellAge] : std::span<std::int32_t>{};
+  [[maybe_unused]] const auto id = s_[f_.id];
+  [[maybe_unused]] const std::int32_t shapeInterval = cfg_.shape_interval;
   // The pair term's form and the Balsara switch enter as per-row factors, so that the pair
   // loop has no branch on them: q = p/rho^2 and s = 1 (rho^2 form) or q = p and s = 1/rho
   // (product form), the pressure term being (q_i + q_j) s_i s_j; f = the Balsara factor, or 1.
@@ -413,13 +416,24 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl, std::size_
     sumWH[i] = sumWHi;
     if constexpr (Aniso) {
       // The shape of the next H (solvers/IdealH.hpp): i's Voronoi cell among the row, in a box
-      // as wide as i's longest reach, cut in the row's (rank-count-independent) order.
-      thread_local std::vector<Vec<Dim>> offsets;
-      thread_local VoronoiCell<Dim> cell;
-      offsets.clear();
-      for (std::uint32_t j : row) offsets.push_back(x[j] - xi);
-      cellClosed_[i] = voronoiCell<Dim>(cell, offsets, K::support * hi);
-      cellSecond_[i] = cellClosed_[i] ? cell.moments().second : Tensor<Dim>::Zero();
+      // as wide as i's longest reach, cut in the row's (rank-count-independent) order; every
+      // shape_interval evaluations, staggered by id so that each step cuts the same share.
+      // Half the cost of an ASPH step is the cell, and H moves only half way towards it a
+      // step: a cell a few steps old is as good a target (decks/README, "ASPH").
+      std::int32_t& age = cellAge[i]; // evaluations since the last cut, plus 1; 0: never cut
+      if (age > 0 && age < shapeInterval) {
+        ++age;
+      } else {
+        thread_local std::vector<Vec<Dim>> offsets;
+        thread_local VoronoiCell<Dim> cell;
+        offsets.clear();
+        for (std::uint32_t j : row) offsets.push_back(x[j] - xi);
+        cellMoment[i] = voronoiCell<Dim>(cell, offsets, K::support * hi) ? cell.moments().second
+                                                                         : Tensor<Dim>::Zero();
+        age = age == 0
+                  ? 1 + static_cast<std::int32_t>(id[i] % static_cast<ParticleId>(shapeInterval))
+                  : 1;
+      }
     }
     muMax[i] = mui;
     if (balsara) {

@@ -33,6 +33,11 @@ template <int Dim> struct ParticleFields {
   // ASPH (solver.method = "asph"): the smoothing tensor H (1/length, symmetric; eta = H x). h
   // then holds the longest axis, 1/lambda_min(H): the reach of the neighbor search and the ghosts.
   Field<Tensor<Dim>> H;
+  // The second moment of the particle's last Voronoi cell (zero where it was open) and the
+  // force evaluations since it was cut, plus 1 (0: never): the shape H relaxes towards, kept
+  // between cuts (solver.shape_interval).
+  Field<Tensor<Dim>> cellMoment;
+  Field<std::int32_t> cellAge;
 
   // Damage (a material with damage): D in [0, 1], read of neighbors by the damaged-pair rule; the
   // intact material's deviatoric stress (S is then what the particle carries); Grady-Kipp flaws
@@ -169,6 +174,8 @@ template <int Dim> struct ParticleFields {
   }
   void registerSmoothingTensor(ParticleStore& s) {
     H = s.add<Tensor<Dim>>("smoothing_tensor", kCheckpoint | kHalo | kReflectTensor);
+    cellMoment = s.add<Tensor<Dim>>("voronoi_second_moment", kCheckpoint);
+    cellAge = s.add<std::int32_t>("voronoi_age", kCheckpoint);
   }
 
   // The groups a configuration needs, in the order the modules register them (tests and tools

@@ -120,6 +120,9 @@ struct SolverConfig {
   double h_max_ratio = 2.0;
   // ASPH: the longest axis of the smoothing ellipsoid is at most this many times the shortest.
   double max_aspect_ratio = 10.0;
+  // ASPH: each particle's Voronoi cell, which gives its ellipse the shape it relaxes towards,
+  // is cut again every this many steps (staggered over the particles by id), and kept between.
+  int shape_interval = 4;
   // Neighbor lists kept across steps: searched with supports this fraction wider, searched again
   // when the particles' travel or their supports' growth has used it up (neighbors/VerletList).
   // The results are the same for any value; 0 searches every step.

@@ -953,6 +953,8 @@ TEST_F(DeckTest, SolidSolverOptions) {
   const Deck bare = load(withLines(kDeck1D, 6, 9, ""));
   EXPECT_EQ(bare.solver.contact, spall::Contact::Auto);
   EXPECT_EQ(bare.solver.neighbor_skin, 0.1);
+  EXPECT_EQ(bare.solver.shape_interval, 4);
+  EXPECT_EQ(loadDeck(path, {"solver.shape_interval=1"}).solver.shape_interval, 1);
   const Deck solid =
       load(withLine(kDeck1D, 14,
                     R"(eos = { type = "mie_gruneisen", c0 = 3940.0, s = 1.49, gamma0 = 2.02 }
@@ -965,6 +967,8 @@ TEST_F(DeckTest, SolidSolverOptionsAreValidated) {
   expectOverrideError(kDeck1D, "solver.artificial_stress.epsilon=1.5", "in [0, 1]");
   expectOverrideError(kDeck1D, "solver.artificial_stress.exponent=0", "[1, 8]");
   expectOverrideError(kDeck1D, "solver.contact=sticky", "frictionless");
+  expectOverrideError(kDeck1D, "solver.shape_interval=0", "[1, 64]");
+  expectOverrideError(kDeck1D, "solver.shape_interval=2.5", "shape_interval");
 }
 
 TEST_F(DeckTest, FixedBodyMovesRigidly) {

@@ -12,8 +12,11 @@ public:
   }
   void initialise(ParticleStore& s, const ParticleFields<Dim>& f,
                   const RunStart& start) const override {
-    for (std::size_t i = start.first; i < s.localCount(); ++i)
+    for (std::size_t i = start.first; i < s.localCount(); ++i) {
       s[f.H][i] = Tensor<Dim>::Identity() / s[f.h][i];
+      s[f.cellMoment][i].setZero();
+      s[f.cellAge][i] = 0; // never cut: cut at the first force evaluation
+    }
   }
 };
 
