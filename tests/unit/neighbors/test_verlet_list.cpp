@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <numeric>
 #include <random>
 
 using namespace spall;
@@ -185,12 +186,24 @@ TEST(VerletList, UnorderedKeptListsHoldFreshSearchesPairs) {
   keptListsMatchFreshSearches<3>(false, false);
 }
 
-// Rows are sorted by radix passes over their span (insertion below 24 entries): against
-// std::sort on short and long rows, narrow and wide spans, repeated values.
+// Rows are sorted by a bitmap of their span or radix passes over it (insertion below 24
+// entries): against std::sort on short and long rows, narrow and wide spans (either side of
+// 32 per entry), repeated values, and distinct ones (a row's places: the bitmap's case).
 TEST(VerletList, RowSortAgreesWithStdSort) {
   std::mt19937_64 rng(3);
   for (std::size_t length : {0, 1, 5, 23, 24, 25, 118, 400}) {
-    for (std::uint32_t span : {1u, 300u, 70000u, 20000000u, 4294967295u}) {
+    for (std::uint32_t span : {1u, 300u, 3700u, 70000u, 20000000u, 4294967295u}) {
+      // Distinct values within the span (when it holds enough), in random order.
+      if (span >= length && length > 0 && span < 100000u) {
+        std::vector<std::uint32_t> all(span + 1u);
+        std::iota(all.begin(), all.end(), 7u);
+        std::shuffle(all.begin(), all.end(), rng);
+        std::vector<std::uint32_t> row(all.begin(), all.begin() + static_cast<long>(length));
+        std::vector<std::uint32_t> tmp(length), expect = row;
+        std::sort(expect.begin(), expect.end());
+        neighbors::sortRow(row.data(), row.data() + row.size(), tmp.data());
+        EXPECT_EQ(row, expect) << length << " distinct entries over " << span;
+      }
       std::uniform_int_distribution<std::uint32_t> u(0, span);
       std::vector<std::uint32_t> row(length), tmp(length), expect;
       for (auto& v : row) v = u(rng) + (span < 1000u ? 123456u : 0u);
