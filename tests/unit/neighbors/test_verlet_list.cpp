@@ -188,7 +188,7 @@ TEST(VerletList, UnorderedKeptListsHoldFreshSearchesPairs) {
 
 // Rows are sorted by a bitmap of their span or radix passes over it (insertion below 24
 // entries): against std::sort on short and long rows, narrow and wide spans (either side of
-// 32 per entry), repeated values, and distinct ones (a row's places: the bitmap's case).
+// the bitmap's limit, 64 (512 + n)), repeated values, and distinct ones (a row's places).
 TEST(VerletList, RowSortAgreesWithStdSort) {
   std::mt19937_64 rng(3);
   for (std::size_t length : {0, 1, 5, 23, 24, 25, 118, 400}) {
