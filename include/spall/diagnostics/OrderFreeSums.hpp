@@ -31,12 +31,23 @@ public:
     int e = 0;
     std::frexp(largest > 0.0 ? largest : 1.0, &e); // largest < 2^e
     E_ = 62 - e;
+    scale_ = E_ > -1000 && E_ < 1000 ? std::ldexp(1.0, E_) : 0.0;
   }
-  Int128 of(double x) const { return static_cast<Int128>(std::llround(std::ldexp(x, E_))); }
+  // llround(ldexp(x, E)), inline: a product by 2^E rounds as ldexp does (once, the same result),
+  // and the rounding half away from zero from the truncation and the exact remainder (the
+  // library calls were 3% of a 2D step's time, a history row every step).
+  Int128 of(double x) const {
+    const double y = scale_ != 0.0 ? x * scale_ : std::ldexp(x, E_);
+    if (!(std::abs(y) < 0x1p62)) return static_cast<Int128>(std::llround(y));
+    const auto t = static_cast<std::int64_t>(y);    // truncated
+    const double rest = y - static_cast<double>(t); // exact
+    return static_cast<Int128>(t + (rest >= 0.5) - (rest <= -0.5));
+  }
   double value(Int128 q) const { return std::ldexp(static_cast<double>(q), -E_); }
 
 private:
   int E_ = 0;
+  double scale_ = 0.0; // 2^E where it is a normal double
 };
 
 // `count` quantities over n terms: terms(i, t) writes term i of each quantity into t (a span of
