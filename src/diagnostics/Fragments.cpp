@@ -74,9 +74,10 @@ FragmentCatalogue findFragments(const FragmentInput<Dim>& in, const GhostRefresh
 
   // Friends among this rank's rows.
   UnionFind uf(rows);
+  std::vector<std::uint32_t> row;
   for (std::size_t i = 0; i < n; ++i) {
     if (!in.linkable[i]) continue;
-    for (const std::uint32_t j : in.pairs->of(i)) {
+    for (const std::uint32_t j : in.pairs->of(i, row)) {
       if (j >= rows || !in.linkable[j]) continue;
       const double reach = 0.5 * (in.linkRadius[i] + in.linkRadius[j]);
       if ((in.x[i] - in.x[j]).squaredNorm() <= reach * reach)

@@ -156,7 +156,7 @@ template <int Dim> void MpmMethod<Dim>::advance(double dt, std::int64_t step, do
   const auto cost = s_[cost_];
   for (std::size_t i = 0; i < s_.localCount(); ++i) cost[i] = 1; // every point costs the same
   checkFinite(step + 1, time + dt);
-  if (mpi_.size() > 1) stats_.phases.time(kExchange, [&] { balance(step + 1, {}, {}); });
+  if (mpi_.size() > 1) stats_.phases.time(kExchange, [&] { balance(step + 1, nullptr); });
 }
 
 // The modules' loads on the state at `time`, as SPH's force evaluation takes them: each owned

@@ -152,12 +152,10 @@ template <int Dim> materials::MaterialFields ParticleMethod<Dim>::materialFields
 }
 
 template <int Dim>
-void ParticleMethod<Dim>::balance(std::int64_t step, std::span<const std::uint64_t> offsets,
-                                  std::span<const std::uint32_t> indices,
-                                  std::span<const std::uint32_t> counts) {
+void ParticleMethod<Dim>::balance(std::int64_t step, const neighbors::NeighborList* pairs) {
   stats_.imbalance = decomposition_.imbalance(s_);
   if (!decomposition_.rebalanceDue(step, stats_.imbalance)) return;
-  const auto r = decomposition_.rebalance(s_, offsets, indices, counts);
+  const auto r = decomposition_.rebalance(s_, pairs);
   ++stats_.rebalances;
   stats_.imbalance = r.imbalanceAfter;
   if (r.metisEdgeCut >= 0) stats_.metisEdgeCut = r.metisEdgeCut;

@@ -1,5 +1,6 @@
 #include "spall/parallel/Decomposition.hpp"
 
+#include "spall/neighbors/NeighborList.hpp"
 #include "spall/parallel/RowExchange.hpp"
 
 #include <algorithm>
@@ -31,7 +32,7 @@ template <int Dim> void Decomposition<Dim>::distributeInitial(ParticleStore& s) 
 }
 
 template <int Dim> void Decomposition<Dim>::distributeLoaded(ParticleStore& s) {
-  rebalance(s, {}, {});
+  rebalance(s);
   // Room for the halo's ghosts (~10% on a few ranks) without a reallocation; one rank has none.
   s.shrinkToFit(size_ > 1 ? 0.15 : 0.0);
 }
@@ -159,14 +160,12 @@ bool Decomposition<Dim>::rebalanceDue(std::int64_t step, double imbalance) const
 
 template <int Dim>
 RebalanceReport Decomposition<Dim>::rebalance(ParticleStore& s,
-                                              std::span<const std::uint64_t> offsets,
-                                              std::span<const std::uint32_t> pairs,
-                                              std::span<const std::uint32_t> counts) {
+                                              const neighbors::NeighborList* pairs) {
   RebalanceReport report;
   report.imbalanceBefore = imbalance(s);
   std::vector<std::uint64_t> cellOfRow;
   int shift = 0;
-  const bool metis = cfg_.metis && size_ > 1 && !offsets.empty();
+  const bool metis = cfg_.metis && size_ > 1 && pairs && pairs->rows() > 0;
   newKeyBox(s);
   const std::size_t n = s.localCount();
   const auto x = s[x_];
@@ -197,11 +196,11 @@ RebalanceReport Decomposition<Dim>::rebalance(ParticleStore& s,
     cellOfRow.resize(s.size());
     for (std::size_t j = 0; j < s.size(); ++j) cellOfRow[j] = keys_(x[j]) >> shift;
     std::unordered_map<std::uint64_t, std::uint64_t> edges;
-    for (std::size_t i = 0; i + 1 < offsets.size() && i < n; ++i) {
+    std::vector<std::uint32_t> row;
+    for (std::size_t i = 0; i < pairs->rows() && i < n; ++i) {
       const std::uint64_t ci = cellOfRow[i];
-      const std::uint64_t end = counts.empty() ? offsets[i + 1] : offsets[i] + counts[i];
-      for (std::uint64_t k = offsets[i]; k < end; ++k) {
-        const std::uint64_t cj = cellOfRow[pairs[k]];
+      for (const std::uint32_t j : pairs->of(i, row)) {
+        const std::uint64_t cj = cellOfRow[j];
         if (cj != ci) ++edges[(std::min(ci, cj) << 32) | std::max(ci, cj)];
       }
     }

@@ -68,7 +68,8 @@ public:
       const double norm = Aniso ? Hs[i].determinant() : ipow<Dim>(hinv);
       double sum = m[i] * W0;
       double vol = normalise ? m[i] / rhoPrev_[i] * W0 : 0.0;
-      for (std::uint32_t j : nl.of(i)) {
+      thread_local std::vector<std::uint32_t> rowBuf; // each thread's own
+      for (std::uint32_t j : nl.of(i, rowBuf)) {
         const double q = Aniso ? (Hs[i] * (x[i] - x[j])).norm() : (x[i] - x[j]).norm() * hinv;
         if (q >= K::support) continue;
         const double w = K::sigma() * K::f(q);
@@ -103,7 +104,8 @@ public:
       const double hiInv = 1.0 / h[i], gradNormI = sigma * ipow<Dim>(hiInv) * hiInv;
       Tensor<Dim> M = Tensor<Dim>::Zero();
       bool atCrack = cracks && cracks_.failed(i);
-      for (std::uint32_t j : nl.of(i)) {
+      thread_local std::vector<std::uint32_t> rowBuf; // each thread's own
+      for (std::uint32_t j : nl.of(i, rowBuf)) {
         if (cracks) atCrack = atCrack || cracks_.failed(j);
         const Vec<Dim> xij = x[i] - x[j];
         const double r = xij.norm();

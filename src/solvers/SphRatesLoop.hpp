@@ -137,7 +137,8 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl, std::size_
     const Vec<Dim> xi = x[i], vi = v[i];
     const double hi = h[i], hiInv = 1.0 / hi;
     const double gradNormI = sigma * ipow<Dim>(hiInv) * hiInv;
-    const auto row = nl.of(i);
+    thread_local std::vector<std::uint32_t> rowBuf; // each thread's own
+    const auto row = nl.of(i, rowBuf);
     [[maybe_unused]] thread_local std::vector<PairKernel> kernelRow; // each thread's own
     if constexpr (KernelPass) pairKernels(xi, hiInv, gradNormI, row, kernelRow);
     const double rhoi = rho[i], ci = cs[i];

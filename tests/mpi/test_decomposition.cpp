@@ -130,7 +130,7 @@ TEST(Decomposition, ThousandRebalancesOfARandomCloudLoseNothing) {
       cost[i] = 1 + static_cast<std::int32_t>(u(rng) * 50); // changing load
     }
     farthest = std::max(farthest, dec.migrate(c.s, it).maxRankDistance);
-    dec.rebalance(c.s, {}, {});
+    dec.rebalance(c.s);
     std::uint64_t count = c.s.localCount();
     MPI_Allreduce(MPI_IN_PLACE, &count, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
     ASSERT_EQ(count, n) << "after rebalance " << it;
@@ -158,7 +158,7 @@ TEST(Decomposition, MoreRanksThanParticles) {
   for (int it = 0; it < 20; ++it) {
     for (auto& p : c.s[c.x]) p += Vec<3>(0.3, -0.1, 0.05);
     dec.migrate(c.s, it);
-    dec.rebalance(c.s, {}, {});
+    dec.rebalance(c.s);
   }
   EXPECT_EQ(allIds(c), (std::vector<ParticleId>{1000, 1001, 1002}));
   HaloExchange<3> halo(MPI_COMM_WORLD, {});

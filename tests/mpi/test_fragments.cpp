@@ -177,10 +177,11 @@ TEST(Fragments, FriendsOfFriendsAcrossRanksAndPeriodicBoundsMatchBruteForce) {
   const auto x = c.s[c.x];
   const auto R = c.s[c.R];
   for (std::size_t i = 0; i < n; ++i) {
+    std::vector<std::uint32_t> row;
     for (std::size_t j = 0; j < rows; ++j)
       if (j != i && (x[i] - x[j]).norm() < std::max(R[i], R[j]))
-        nl.indices.push_back(static_cast<std::uint32_t>(j));
-    nl.offsets.push_back(nl.indices.size());
+        row.push_back(static_cast<std::uint32_t>(j));
+    nl.append(row);
   }
   std::map<ParticleId, bool> linkableOf;
   for (const auto& p : all) linkableOf[p.id] = p.linkable;

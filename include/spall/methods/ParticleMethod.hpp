@@ -75,10 +75,9 @@ protected:
   void bookExternalStep(double dt, const ExternalLoad& load);
   materials::MaterialFields materialFields();
   void checkFinite(std::int64_t step, double time) const;
-  // Measures the imbalance of the cost and re-cuts the key axis when due; the pairs (CSR, the
-  // owned rows', each its first counts[i] entries when given) are the graph METIS cuts.
-  void balance(std::int64_t step, std::span<const std::uint64_t> offsets,
-               std::span<const std::uint32_t> indices, std::span<const std::uint32_t> counts = {});
+  // Measures the imbalance of the cost and re-cuts the key axis when due; the pairs (the owned
+  // rows', if any) are the graph METIS cuts.
+  void balance(std::int64_t step, const neighbors::NeighborList* pairs);
 
   const parallel::MpiContext& mpi_;
   ParticleMethodSetup common_;

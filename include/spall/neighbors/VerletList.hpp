@@ -124,18 +124,18 @@ public:
       return r2 < inner2_[p] || d.dot(G_[p] * d) < support2;
     };
     if (wide_.counts.size() != owned) wide_.counts.assign(owned, 0); // (not recorded)
-    std::uint32_t* list = wide_.indices.data();
     std::uint64_t kept = 0, longest = 0;
     for (std::size_t i = 0; i < owned; ++i)
-      longest = std::max(longest, wide_.offsets[i + 1] - wide_.offsets[i]);
+      longest = std::max<std::uint64_t>(longest, wide_.length(i));
     // (An exception must not leave a parallel region: a failed allocation is carried out.)
     std::exception_ptr failure;
 #pragma omp parallel if (threaded(owned))
     {
-      // This thread's scratch: pairs that left reach, came into it, the others, a merged row.
-      std::vector<std::uint32_t> out, in, others, merged;
+      // This thread's scratch: the row decoded, pairs that left reach, came into it, the others,
+      // a merged row.
+      std::vector<std::uint32_t> decoded, out, in, others, merged;
       try {
-        for (auto* v : {&out, &in, &others, &merged}) v->resize(longest);
+        for (auto* v : {&decoded, &out, &in, &others, &merged}) v->resize(longest);
       } catch (...) {
 #pragma omp critical(spall_filter_failure)
         if (!failure) failure = std::current_exception();
@@ -144,8 +144,9 @@ public:
 #pragma omp for schedule(dynamic, 256) reduction(+ : kept)
       for (std::size_t i = 0; i < owned; ++i) {
         if (!ready) continue;
-        std::uint32_t* row = list + wide_.offsets[i];
-        const std::size_t length = wide_.offsets[i + 1] - wide_.offsets[i];
+        std::uint32_t* row = decoded.data();
+        const std::size_t length = wide_.length(i);
+        wide_.decode(i, length, row);
         const std::size_t before = wide_.counts[i];
         const Vec<Dim> xi = x[i];
         const double ri2 = radius_[i] * radius_[i];
@@ -181,7 +182,7 @@ public:
         const std::size_t now = m;
         m += merge(others.data(), others.data() + rest, out.data(), out.data() + left,
                    merged.data() + m);
-        std::copy_n(merged.data(), m, row);
+        wide_.rewrite(i, merged.data()); // (m = length)
         wide_.counts[i] = static_cast<std::uint32_t>(now);
         kept += now;
       }

@@ -15,6 +15,10 @@
 #include <string>
 #include <vector>
 
+namespace spall::neighbors {
+struct NeighborList;
+}
+
 namespace spall::parallel {
 
 struct DecompositionConfig {
@@ -63,12 +67,9 @@ public:
   // max/mean of the summed cost over ranks (collective).
   double imbalance(const ParticleStore& s) const;
   bool rebalanceDue(std::int64_t step, double imbalance) const;
-  // New key box, new cuts by cost, migration. `pairs` (CSR over owned rows, indices into the
-  // store, ghosts included; row i the first counts[i] entries of its span when `counts` is
-  // given) feeds the METIS cell graph; it may be empty for SFC.
-  RebalanceReport rebalance(ParticleStore& s, std::span<const std::uint64_t> offsets,
-                            std::span<const std::uint32_t> pairs,
-                            std::span<const std::uint32_t> counts = {});
+  // New key box, new cuts by cost, migration. `pairs` (rows of the owned particles, indices
+  // into the store, ghosts included) feeds the METIS cell graph; it may be null for SFC.
+  RebalanceReport rebalance(ParticleStore& s, const neighbors::NeighborList* pairs = nullptr);
 
 private:
   void newKeyBox(const ParticleStore& s);

@@ -53,8 +53,9 @@ public:
   void collect(const neighbors::NeighborList& nl, std::size_t n) {
     start_.assign(n + 1, 0);
     list_.clear();
+    std::vector<std::uint32_t> row;
     for (std::size_t i = 0; i < n; ++i) {
-      for (std::uint32_t k : nl.of(i))
+      for (std::uint32_t k : nl.of(i, row))
         if (failed_[k] != 0) list_.push_back(k);
       start_[i + 1] = static_cast<std::uint32_t>(list_.size());
     }

@@ -31,7 +31,7 @@ template <int Dim> void compareWithBruteForce(std::size_t n, std::size_t owned) 
       const double reach = 2.0 * std::max(h[i], h[j]);
       if ((x[i] - x[j]).squaredNorm() < reach * reach) expect.insert(static_cast<std::uint32_t>(j));
     }
-    const auto got = nl.of(i);
+    const auto got = nl.row(i);
     ASSERT_EQ(std::set<std::uint32_t>(got.begin(), got.end()), expect) << "particle " << i;
     ASSERT_EQ(got.size(), expect.size()) << "a neighbor listed twice for particle " << i;
   }
@@ -85,7 +85,7 @@ template <int Dim> void compareEllipsoidsWithBruteForce(std::size_t n, std::size
       const double reach = 2.0 * std::max(h[i], h[j]);
       sphere += xij.squaredNorm() < reach * reach;
     }
-    const auto got = nl.of(i);
+    const auto got = nl.row(i);
     ASSERT_EQ(std::set<std::uint32_t>(got.begin(), got.end()), expect) << "particle " << i;
     ASSERT_EQ(got.size(), expect.size()) << "a neighbor listed twice for particle " << i;
     pairs += got.size();
@@ -173,7 +173,8 @@ template <int Dim> void compareThreadCounts(bool ellipsoids) {
       neighbors::NeighborList fresh;
       build(freshGrid, fresh, st, o);
       EXPECT_EQ(fresh.offsets, nl.offsets) << threads << " threads, step " << lists.size();
-      EXPECT_EQ(fresh.indices, nl.indices) << threads << " threads, step " << lists.size();
+      EXPECT_EQ(fresh.units, nl.units) << threads << " threads, step " << lists.size();
+      EXPECT_EQ(fresh.base, nl.base) << threads << " threads, step " << lists.size();
     }
     setThreadCount(before);
     setThreadedRows(4096);
@@ -187,7 +188,8 @@ template <int Dim> void compareThreadCounts(bool ellipsoids) {
       const auto many = builds(threads, o);
       for (std::size_t b = 0; b < one.size(); ++b) {
         EXPECT_EQ(many[b].offsets, one[b].offsets) << threads << " threads, build " << b;
-        EXPECT_EQ(many[b].indices, one[b].indices) << threads << " threads, build " << b;
+        EXPECT_EQ(many[b].units, one[b].units) << threads << " threads, build " << b;
+        EXPECT_EQ(many[b].base, one[b].base) << threads << " threads, build " << b;
       }
     }
   }

@@ -72,7 +72,7 @@ std::vector<std::vector<std::uint32_t>> rowsOf(const neighbors::NeighborList& nl
                                                bool sorted = false) {
   std::vector<std::vector<std::uint32_t>> rows(owned);
   for (std::size_t i = 0; i < owned; ++i) {
-    rows[i].assign(nl.of(i).begin(), nl.of(i).end());
+    rows[i] = nl.row(i);
     if (sorted) std::sort(rows[i].begin(), rows[i].end());
   }
   return rows;
@@ -104,12 +104,12 @@ void perturb(Cloud<Dim>& c, double support, double move, double grow, std::mt199
   }
 }
 
-// ordered: rows in the canonical order (else the search's own: rows compared as sets).
-template <int Dim> void keptListsMatchFreshSearches(bool ellipsoids, bool ordered = true) {
-  const std::size_t n = 2500, owned = 2000;
+// The cloud's first `owned` particles own rows (the rest are ghosts). ordered: rows in the
+// canonical order (else the search's own: rows compared as sets).
+template <int Dim>
+void keptListsMatchFreshSearches(Cloud<Dim> c, std::size_t owned, bool ordered,
+                                 std::mt19937_64& rng) {
   const double support = 2.0, skin = 0.15;
-  std::mt19937_64 rng(5);
-  Cloud<Dim> c = makeCloud<Dim>(n, ellipsoids, rng);
   neighbors::VerletList<Dim> verlet(skin);
   search(c, owned, verlet.widened(support), verlet.wide(), &verlet.places(), ordered);
   verlet.record(c.x, c.h, metrics(c), owned);
@@ -147,7 +147,62 @@ template <int Dim> void keptListsMatchFreshSearches(bool ellipsoids, bool ordere
       verlet.drift(std::span<const Vec<Dim>>(c.x).first(owned), c.h, metrics(c), support)));
 }
 
+template <int Dim> void keptListsMatchFreshSearches(bool ellipsoids, bool ordered = true) {
+  std::mt19937_64 rng(5);
+  keptListsMatchFreshSearches<Dim>(makeCloud<Dim>(2500, ellipsoids, rng), 2000, ordered, rng);
+}
+
 } // namespace
+
+// Rows whose neighbors lie more than 65536 places apart in the local order are stored wide (32
+// bits a neighbor), the others narrow (16 bits from the row's smallest index): 170000 particles
+// on a line, the first 70000 in index order along its first half (narrow rows), the rest at
+// random along the second (mostly wide rows; pairs found from the other side turn narrow rows at
+// the seam wide). Kept and filtered rows still equal fresh searches, entry for entry.
+TEST(VerletList, KeptListsMatchFreshSearchesWithWideRows) {
+  const std::size_t n = 170000, owned = 168000, ordered = 70000;
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(0.0, 1.0), hd(2.0, 4.0);
+  Cloud<1> c;
+  c.x.resize(n), c.h.resize(n), c.id.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    // (The halves at their own spacings: about 12 neighbors a row in both.)
+    const double dx = 0.5 / static_cast<double>(i < ordered ? ordered : n - ordered);
+    c.x[i][0] = i < ordered ? (static_cast<double>(i) + 0.5) * dx : 0.5 + 0.5 * u(rng);
+    c.h[i] = hd(rng) * dx;
+    c.id[i] = static_cast<ParticleId>((i * 7919) % n);
+  }
+  neighbors::NeighborList nl;
+  search(c, owned, 2.0, nl);
+  std::size_t wide = 0;
+  for (std::size_t i = 0; i < owned; ++i) wide += nl.base[i] == neighbors::NeighborList::kWide;
+  ASSERT_GT(wide, owned / 4);     // both kinds of row are tested
+  ASSERT_LT(wide, 3 * owned / 4); // (about half of each)
+  keptListsMatchFreshSearches<1>(c, owned, true, rng);
+}
+
+// A row's encoding: narrow up to a span of 65535, wide beyond; either decodes to the row.
+TEST(NeighborList, RowsDecodeToWhatWasAppended) {
+  const std::vector<std::vector<std::uint32_t>> rows = {
+      {}, {5}, {70000, 4465, 4465 + 17}, {65536, 0}, {4000000000u, 3, 77}, {9, 8, 7, 6}};
+  neighbors::NeighborList nl;
+  nl.offsets.push_back(0);
+  std::size_t pairs = 0;
+  for (const auto& r : rows) nl.append(r), pairs += r.size();
+  const std::uint32_t kWide = neighbors::NeighborList::kWide;
+  const std::vector<std::uint32_t> bases = {0, 5, 4465, kWide, kWide, 6};
+  ASSERT_EQ(nl.rows(), rows.size());
+  EXPECT_EQ(nl.base, bases);
+  EXPECT_EQ(nl.pairs(), pairs);
+  std::vector<std::uint32_t> buf;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    EXPECT_EQ(nl.row(i), rows[i]) << "row " << i;
+    const auto got = nl.of(i, buf);
+    EXPECT_EQ(std::vector<std::uint32_t>(got.begin(), got.end()), rows[i]) << "row " << i;
+    const std::size_t units = nl.offsets[i + 1] - nl.offsets[i];
+    EXPECT_EQ(units, (bases[i] == kWide ? 2 : 1) * rows[i].size()) << "row " << i;
+  }
+}
 
 TEST(VerletList, KeptListsMatchFreshSearches2D) {
   keptListsMatchFreshSearches<2>(false);

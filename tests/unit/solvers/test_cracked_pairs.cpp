@@ -33,7 +33,7 @@ struct Cracked : fixtures::SolverLattice {
   static bool failed(std::size_t i) { return static_cast<int>(i) / kN == kCrackColumn; }
   // Whether a failed particle is in i's neighbor list (the list the rates were computed from).
   bool nextToCrack(std::size_t i) const {
-    for (std::uint32_t j : nl.of(i))
+    for (std::uint32_t j : nl.row(i))
       if (failed(j)) return true;
     return false;
   }
