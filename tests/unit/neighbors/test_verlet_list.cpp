@@ -178,6 +178,20 @@ TEST(VerletList, KeptListsMatchFreshSearchesWithWideRows) {
   for (std::size_t i = 0; i < owned; ++i) wide += nl.base[i] == neighbors::NeighborList::kWide;
   ASSERT_GT(wide, owned / 4);     // both kinds of row are tested
   ASSERT_LT(wide, 3 * owned / 4); // (about half of each)
+  // The same units on any thread count (the rows' regions, spills and the merge of the pairs
+  // found from the other side, which widens rows, all threaded).
+  const int before = threadCount();
+  for (int threads : {2, 3}) {
+    setThreadCount(threads);
+    setThreadedRows(1);
+    neighbors::NeighborList many;
+    search(c, owned, 2.0, many);
+    EXPECT_EQ(many.offsets, nl.offsets) << threads << " threads";
+    EXPECT_EQ(many.units, nl.units) << threads << " threads";
+    EXPECT_EQ(many.base, nl.base) << threads << " threads";
+  }
+  setThreadCount(before);
+  setThreadedRows(4096);
   keptListsMatchFreshSearches<1>(c, owned, true, rng);
 }
 
