@@ -56,7 +56,8 @@ TEST(ParticleStore, RowsCopyRestoresTheFlaggedColumnsExactly) {
   ParticleStore::RowsCopy copy;
   s.copyRows(kCheckpoint, copy);
   EXPECT_EQ(copy.count, 5u);
-  EXPECT_EQ(copy.size(), 5u * (sizeof(ParticleId) + sizeof(Vec<3>)));
+  // (Packed: consecutive ids keep one byte each, the positions' constant third component none.)
+  EXPECT_LT(copy.size(), 5u * (sizeof(ParticleId) + sizeof(Vec<3>)));
   // The store moves on: rows change, some leave, ghosts arrive.
   s[x][0] = Vec<3>::Constant(std::numeric_limits<double>::quiet_NaN());
   const std::vector<std::uint32_t> keep{4, 2};
