@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <exception>
 #include <memory>
 #include <span>
 #include <stdexcept>
@@ -276,12 +277,20 @@ public:
     out.columns = columnsWith(flags);
     out.bytes.resize(out.columns.size());
     const std::size_t columns = out.columns.size();
+    // (An exception must not leave a parallel region: a failed allocation is carried out.)
+    std::exception_ptr failure;
 #pragma omp parallel for schedule(dynamic, 1) if (threaded(local_))
     for (std::size_t k = 0; k < columns; ++k) {
       const ColumnBase& c = *columns_[out.columns[k]];
-      out.bytes[k] = xordelta::pack(static_cast<const std::byte*>(c.raw()), local_,
-                                    c.bytesPerParticle(), scalarBytes(c.info().scalar));
+      try {
+        out.bytes[k] = xordelta::pack(static_cast<const std::byte*>(c.raw()), local_,
+                                      c.bytesPerParticle(), scalarBytes(c.info().scalar));
+      } catch (...) {
+#pragma omp critical(spall_rows_copy_failure)
+        if (!failure) failure = std::current_exception();
+      }
     }
+    if (failure) std::rethrow_exception(failure);
   }
   // Makes the copy's rows the owned rows again (no ghosts); the other columns keep whatever
   // their first `count` rows held.

@@ -18,6 +18,7 @@
 #include <exception>
 #include <limits>
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace spall::neighbors {
@@ -58,6 +59,20 @@ struct NeighborList {
     else
       for (std::size_t k = 0; k < n; ++k)
         to[k] = u[2 * k] | static_cast<std::uint32_t>(u[2 * k + 1]) << 16;
+  }
+  // The smallest and largest index of row i's whole length ({max, 0} for an empty row).
+  std::pair<std::uint32_t, std::uint32_t> bounds(std::size_t i) const {
+    const std::uint16_t* u = units.data() + offsets[i];
+    const std::size_t n = length(i);
+    if (n == 0) return {std::numeric_limits<std::uint32_t>::max(), 0};
+    if (base[i] != kWide) // (the base is the row's smallest index)
+      return {base[i], base[i] + *std::max_element(u, u + n)};
+    std::uint32_t lo = std::numeric_limits<std::uint32_t>::max(), hi = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::uint32_t j = u[2 * k] | static_cast<std::uint32_t>(u[2 * k + 1]) << 16;
+      lo = std::min(lo, j), hi = std::max(hi, j);
+    }
+    return {lo, hi};
   }
   // Row i (a kept list's: the step's pairs), decoded into `buf`, which grows as needed.
   std::span<const std::uint32_t> of(std::size_t i, std::vector<std::uint32_t>& buf) const {
@@ -540,20 +555,16 @@ void buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
   // old one: no row grows shorter).
   std::vector<std::uint64_t> at(owned + 1, 0);
   std::vector<std::uint32_t> newBase(out.base);
-#pragma omp parallel if (threaded(owned))
-  {
-    std::vector<std::uint32_t> buf;
-#pragma omp for schedule(dynamic, 256)
-    for (std::size_t i = 0; i < owned; ++i) {
-      const std::size_t length = out.length(i), more = groupStart[i + 1] - groupStart[i];
-      if (more > 0) {
-        resizeWithHeadroom(buf, length + more);
-        out.decode(i, length, buf.data());
-        std::copy_n(grouped.data() + groupStart[i], more, buf.data() + length);
-        newBase[i] = NeighborList::baseOf(buf.data(), length + more);
-      }
-      at[i + 1] = NeighborList::unitsOf(newBase[i], length + more);
+#pragma omp parallel for schedule(dynamic, 256) if (threaded(owned))
+  for (std::size_t i = 0; i < owned; ++i) {
+    const std::size_t length = out.length(i), more = groupStart[i + 1] - groupStart[i];
+    if (more > 0) {
+      auto [lo, hi] = out.bounds(i);
+      for (std::uint32_t k = groupStart[i]; k < groupStart[i + 1]; ++k)
+        lo = std::min(lo, grouped[k]), hi = std::max(hi, grouped[k]);
+      newBase[i] = NeighborList::baseOf(lo, hi);
     }
+    at[i + 1] = NeighborList::unitsOf(newBase[i], length + more);
   }
   for (std::size_t i = 0; i < owned; ++i) at[i + 1] += at[i];
   resizeWithHeadroom(out.units, at[owned]);
