@@ -281,7 +281,7 @@ methods::MethodSetup methodSetup(const Deck& deck) {
   // domains start as the points' boxes and are kept within a cell of half-width (methods/
   // MpmMethod): a box wider than 2 cells would be cut at once, and the domains would no longer
   // tile the body.
-  const bool gimp = c.shape == MpmShape::Gimp;
+  const bool gimp = c.shape == MpmShape::Gimp || c.shape == MpmShape::CpGimp;
   if (c.shape != MpmShape::Linear && coarsest > (gimp ? 1.0 : 2.0) * c.cell_size * (1.0 + 1e-12))
     throw DeckError(deck.solver.mpm.where,
                     fmt::format("solver.mpm.cell_size: {:g} m (after run.resolution) is smaller "
@@ -299,9 +299,10 @@ std::string methodSummary(const Deck& deck) {
   if (s.method == "mpm") {
     const auto m = methodSetup(deck).solver.mpm;
     return fmt::format("mpm {} cell {:.4g} m {}",
-                       m.shape == MpmShape::Linear ? "linear"
-                       : m.shape == MpmShape::Cpdi ? "cpdi"
-                                                   : "gimp",
+                       m.shape == MpmShape::Linear   ? "linear"
+                       : m.shape == MpmShape::Cpdi   ? "cpdi"
+                       : m.shape == MpmShape::CpGimp ? "cpgimp"
+                                                     : "gimp",
                        m.cell_size,
                        m.transfer == MpmTransfer::Apic ? std::string("apic")
                                                        : fmt::format("flip {:g}", m.flip));

@@ -61,8 +61,8 @@ std::string infoText() {
                    EIGEN_MINOR_VERSION);
   s += fmt::format("toml++     {}.{}.{}\n", TOML_LIB_MAJOR, TOML_LIB_MINOR, TOML_LIB_PATCH);
   s += "features   dimensions 1/2/3, axisymmetric rz; solvers: sph, asph, mpm (linear, gimp,\n"
-       "           cpdi; flip, apic); kernels: cubic_spline, wendland_c2, wendland_c4; EOS:\n"
-       "           ideal_gas, linear, mie_gruneisen, tillotson, p_alpha porosity; strength:\n"
+       "           cpgimp, cpdi; flip, apic); kernels: cubic_spline, wendland_c2, wendland_c4;\n"
+       "           EOS: ideal_gas, linear, mie_gruneisen, tillotson, p_alpha porosity; strength:\n"
        "           elastic, von_mises, johnson_cook, zerilli_armstrong, cap; damage: grady_kipp,\n"
        "           johnson_cook; boundaries: rigid_wall, periodic, pressure (with [damping]);\n"
        "           MPI decomposition, checkpoint/restart; output: HDF5 + XDMF, CSV,\n"

@@ -27,10 +27,11 @@ void readSolver(const TableReader& r, SolverConfig& s) {
       mp.check(*v >= 0.0, "cell_size", ">= 0 (0: twice the finest body spacing)", *v);
       s.mpm.cell_size = *v;
     }
-    const std::string shape = mp.choice("shape", {"linear", "gimp", "cpdi"}, "gimp");
-    s.mpm.shape = shape == "linear" ? MpmShape::Linear
-                  : shape == "cpdi" ? MpmShape::Cpdi
-                                    : MpmShape::Gimp;
+    const std::string shape = mp.choice("shape", {"linear", "gimp", "cpgimp", "cpdi"}, "gimp");
+    s.mpm.shape = shape == "linear"   ? MpmShape::Linear
+                  : shape == "cpdi"   ? MpmShape::Cpdi
+                  : shape == "cpgimp" ? MpmShape::CpGimp
+                                      : MpmShape::Gimp;
     s.mpm.transfer = mp.choice("transfer", {"flip", "apic"}, "flip") == "apic" ? MpmTransfer::Apic
                                                                                : MpmTransfer::Flip;
     if (const auto f = mp.number("flip")) {

@@ -49,7 +49,7 @@ template <int Dim> void MpmMethod<Dim>::start(const RunStart& run) {
   const auto& mpm = setup_.solver.mpm;
   if (mpm.shape != MpmShape::Linear) {
     // GIMP: the box within half a cell; CPDI: the domain within a cell of half-width.
-    const bool gimp = mpm.shape == MpmShape::Gimp;
+    const bool gimp = mpm.shape != MpmShape::Cpdi;
     double lpMax = 0.0;
     for (double lp : s_[f_.halfWidth].first(s_.localCount())) lpMax = std::max(lpMax, lp);
     lpMax = mpi_.max(lpMax);
@@ -184,6 +184,7 @@ template <int Dim> void MpmMethod<Dim>::loads(double time) {
 template <int Dim> void MpmMethod<Dim>::deform(double dt) {
   const std::size_t n = s_.localCount();
   const double hc = setup_.solver.mpm.cell_size;
+  const bool cpdi = setup_.solver.mpm.shape == MpmShape::Cpdi;
   const auto rho = s_[f_.rho];
   const auto e = s_[f_.e];
   const auto p = s_[f_.p];
@@ -206,12 +207,13 @@ template <int Dim> void MpmMethod<Dim>::deform(double dt) {
   for (std::size_t i = 0; i < n; ++i) {
     // The whole 3 x 3 increment: in rz the hoop rate L_tt changes a ring's volume too.
     const Tensor<3> F = Tensor<3>::Identity() + dt * L[i];
-    // CPDI: the domain follows the in-plane motion, r_i <- (I + dt L) r_i, kept within a cell
-    // of half-width and an aspect ratio of 4 (solvers/MpmShapes.hpp, regulariseDomain).
+    // CPDI and cpGIMP: the domain follows the in-plane motion, r_i <- (I + dt L) r_i; CPDI's is
+    // kept within a cell of half-width and an aspect ratio of 4 (solvers/MpmShapes.hpp,
+    // regulariseDomain), cpGIMP's box is bounded where it is taken (gimpBox).
     if (f_.domain.valid()) {
       Tensor<Dim>& R = s_[f_.domain][i];
       R = (F.template topLeftCorner<Dim, Dim>() * R).eval();
-      solvers::mpm::regulariseDomain<Dim>(R, kDomainLongest * hc, kDomainAspect);
+      if (cpdi) solvers::mpm::regulariseDomain<Dim>(R, kDomainLongest * hc, kDomainAspect);
     }
     const double rhoNew = rho[i] / F.determinant();
     rhoMid[i] = 0.5 * (rho[i] + rhoNew);
@@ -269,7 +271,11 @@ template <int Dim> void MpmMethod<Dim>::exchangeHalo() {
   const std::size_t n = s_.localCount();
   // How far a point's weights reach beyond a cell: GIMP its box, CPDI its domain's corners.
   double extent = 0.0;
-  if (f_.domain.valid())
+  const double hc = setup_.solver.mpm.cell_size;
+  if (setup_.solver.mpm.shape == MpmShape::CpGimp)
+    for (const Tensor<Dim>& R : s_[f_.domain].first(n))
+      extent = std::max(extent, solvers::mpm::gimpBox<Dim>(R, hc).maxCoeff());
+  else if (f_.domain.valid())
     for (const Tensor<Dim>& R : s_[f_.domain].first(n))
       extent = std::max(extent, R.cwiseAbs().rowwise().sum().maxCoeff());
   else

@@ -18,6 +18,7 @@ std::unique_ptr<MpmGrid<Dim>> makeMpmGrid(const MpmConfig& config, const Vec<Dim
   if (config.shape == MpmShape::Cpdi)
     return std::make_unique<grid::Grid<Dim, MpmShape::Cpdi>>(config, origin, std::move(walls),
                                                              axisymmetric);
+  // uGIMP and cpGIMP: the same weights, cpGIMP's box from the points' domains (MpmParticles).
   return std::make_unique<grid::Grid<Dim, MpmShape::Gimp>>(config, origin, std::move(walls),
                                                            axisymmetric);
 }

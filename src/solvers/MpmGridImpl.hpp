@@ -316,7 +316,10 @@ private:
         Key loT = lo, hiT = hi;
 #pragma omp for schedule(static) nowait
         for (std::size_t r = 0; r < rows; ++r) {
-          const auto b = mpm::block<Shape, Dim>(P.x[r], origin_, c_.cell_size, P.halfWidth[r]);
+          // GIMP: uGIMP's box, or cpGIMP's from the point's domain.
+          const Vec<Dim> lp = P.domain.empty() ? Vec<Dim>::Constant(P.halfWidth[r])
+                                               : mpm::gimpBox<Dim>(P.domain[r], c_.cell_size);
+          const auto b = mpm::block<Shape, Dim>(P.x[r], origin_, c_.cell_size, lp);
           first_[r] = b.first;
           begin_[r] = r * K;
           for (int q = 0; q < K; ++q) {

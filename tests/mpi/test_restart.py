@@ -278,11 +278,14 @@ with tempfile.TemporaryDirectory() as tmp:
     # CPDI: the domains (particle_domain) are checkpointed; the bar stopped at stretch 2.
     stopped_and_restarted(SRC / "decks/stretching_bar_mpm_2d.toml", 3, tmp / "mpm_stretch", [],
                           90, "stretching bar (MPM, CPDI), 3 ranks, restart at stretch 2")
-    # ... with the bulk viscosity: q is checkpointed (the grid force and the time step read it).
+    # ... with the bulk viscosity: q is checkpointed (the grid force and the time step read it);
+    # and cpGIMP, whose boxes come from the checkpointed domains.
     stopped_and_restarted(SRC / "decks/taylor_bar_3d.toml", 2, tmp / "mpm_taylor",
                           ["run.resolution=0.4", "run.end_time=1e-5", "solver.method=mpm",
-                           "solver.mpm.viscosity={linear=0.2, quadratic=2.0}"], 100,
-                          "Taylor bar (MPM, 3D, bulk viscosity), 2 ranks, restart mid-impact")
+                           "solver.mpm.viscosity={linear=0.2, quadratic=2.0}",
+                           'solver.mpm.shape="cpgimp"'], 100,
+                          "Taylor bar (MPM, cpGIMP, 3D, bulk viscosity), 2 ranks, restart "
+                          "mid-impact")
 
     # ---- N to M ------------------------------------------------------------------------------
     ckpt = tmp / "half2" / "checkpoints"

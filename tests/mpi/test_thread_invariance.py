@@ -67,9 +67,9 @@ CASES = [("sod_1d.toml", []),
          ("sandstone_confined_2d.toml", ["run.end_time=6e-6", "run.resolution=0.5"]),
          ("pumice_impact_2d.toml", ["run.end_time=1.0e-6", "run.resolution=0.5"]),
          ("two_disks_mpm_2d.toml", ["run.end_time=1.0"]),
-         # MPM's weights, grid update and G2P: GIMP with APIC in 3D, CPDI in 2D
+         # MPM's weights, grid update and G2P: cpGIMP with APIC in 3D, CPDI in 2D
          ("taylor_bar_3d.toml", ["run.resolution=0.4", "run.max_steps=30", "solver.method=mpm",
-                                 'solver.mpm.transfer="apic"']),
+                                 'solver.mpm.transfer="apic"', 'solver.mpm.shape="cpgimp"']),
          ("stretching_bar_mpm_2d.toml", ["run.end_time=0.005"])]
 
 with tempfile.TemporaryDirectory() as tmp:

@@ -75,8 +75,11 @@ enum class Contact {
 // The material point method's grid and transfers ([solver.mpm]).
 enum class MpmShape {
   Linear, // tent functions of the nodes (Sulsky, Chen & Schreyer 1994)
-  Gimp,   // uGIMP: the tent convolved with the particle's box of half-width l_p (Bardenhagen &
-          // Kober 2004, Eq. 37)
+  Gimp,   // uGIMP: the tent convolved with the particle's box of half-width l_p, the box as
+          // made (Bardenhagen & Kober 2004, Eq. 37)
+  CpGimp, // GIMP whose box follows the motion (contiguous-particle GIMP, Wallstedt & Guilkey
+          // 2008): its half-widths the deformed domain's along the axes, at most half a cell
+          // (MpmShapes.hpp, gimpBox)
   Cpdi    // CPDI1: the tent averaged over the particle's deformed domain, a parallelogram
           // (parallelepiped) that follows F (Sadeghirad, Brannon & Burghardt 2011)
 };

@@ -4,7 +4,7 @@
 // dimensions the tensor product S = prod_a S(d_a), dS/dx_a = S'(d_a) prod_{b != a} S(d_b).
 //
 // A particle touches a fixed block of nodes per axis: the tent reaches one cell (2 nodes, from
-// floor(xi)), uGIMP one cell plus l_p <= hc/2 (3 nodes, from round(xi) - 1), xi = (x - origin)/hc.
+// floor(xi)), GIMP one cell plus l_p <= hc/2 (3 nodes, from round(xi) - 1), xi = (x - origin)/hc.
 // Nodes of the block the support does not reach get S = 0: a regular layout for every particle.
 // CPDI's nodes are those of its domain's corners' cells: a list per particle (cpdi()).
 #include "spall/core/SymmetricEigen.hpp"
@@ -61,8 +61,22 @@ template <MpmShape Shape, int Dim> struct Block {
   std::array<Vec<Dim>, kNodesPerParticle<Shape, Dim>> grad{};
 };
 
+// cpGIMP's box (contiguous-particle GIMP, Wallstedt & Guilkey 2008): the half-widths of the
+// point's deformed domain x_p + R xi, xi in [-1, 1]^Dim (R = F l_p0, as CPDI's), along each grid
+// axis. l_a = sqrt((R R^T)_aa) is the half-width of the axis-aligned box with the domain's
+// second moment along axis a: a stretch lambda_a gives lambda_a l_p0, a rotation keeps l_p0
+// (where F's diagonal, the usual choice, shrinks the box of a turned point), a shear lengthens it
+// by sqrt(1 + gamma^2). Within half a cell, where GIMP's weights keep the partition of unity and
+// linear completeness (its 3 nodes per axis reach no further).
+template <int Dim> Vec<Dim> gimpBox(const Tensor<Dim>& R, double hc) {
+  Vec<Dim> l;
+  for (int a = 0; a < Dim; ++a) l[a] = std::min(R.row(a).norm(), 0.5 * hc);
+  return l;
+}
+
+// lp: the box's half-width along each axis (uGIMP: l_p on every axis; cpGIMP: gimpBox).
 template <MpmShape Shape, int Dim>
-Block<Shape, Dim> block(const Vec<Dim>& x, const Vec<Dim>& origin, double hc, double lp) {
+Block<Shape, Dim> block(const Vec<Dim>& x, const Vec<Dim>& origin, double hc, const Vec<Dim>& lp) {
   constexpr int n = kNodesPerAxis<Shape>;
   Block<Shape, Dim> b;
   std::array<std::array<Weight, n>, Dim> w;
@@ -81,7 +95,7 @@ Block<Shape, Dim> block(const Vec<Dim>& x, const Vec<Dim>& origin, double hc, do
     } else {
       for (int k = 0; k < n; ++k) {
         const double X = origin[a] + static_cast<double>(first + k) * hc;
-        wa[static_cast<std::size_t>(k)] = gimp(x[a] - X, hc, lp);
+        wa[static_cast<std::size_t>(k)] = gimp(x[a] - X, hc, lp[a]);
       }
     }
   }

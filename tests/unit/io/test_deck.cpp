@@ -610,8 +610,11 @@ TEST_F(DeckTest, MpmTakesItsTableAndRefusesWhatItCannotDoYet) {
   EXPECT_EQ(
       load(withLine(kDeck1D, 7, "method = \"mpm\"\nmpm = { shape = \"cpdi\" }")).solver.mpm.shape,
       spall::MpmShape::Cpdi);
+  EXPECT_EQ(
+      load(withLine(kDeck1D, 7, "method = \"mpm\"\nmpm = { shape = \"cpgimp\" }")).solver.mpm.shape,
+      spall::MpmShape::CpGimp);
   expectError(withLine(kDeck1D, 7, "method = \"mpm\"\nmpm = { shape = \"bspline\" }"), 8, 17,
-              "linear, gimp, cpdi");
+              "linear, gimp, cpgimp, cpdi");
   expectError(withLine(kDeck1D, 7, "method = \"mpm\"\nmpm = { flip = 1.5 }"), 8, 16, "in [0, 1]");
   // The transfer: FLIP (the blend) by default, or APIC, which no flip blends (flip = 1 is
   // FLIP's default, harmless in a deck that switches to APIC with --set).

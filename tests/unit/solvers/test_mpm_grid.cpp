@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <numeric>
 #include <random>
 
@@ -50,7 +51,7 @@ namespace {
 // a constant and a linear field exactly. Tolerances: sums of up to 27 terms of order 1 (and
 // positions of order 10 cells), so 1e-13 relative is a few ulps.
 template <MpmShape Shape, int Dim>
-void expectComplete(const Vec<Dim>& x, const Vec<Dim>& origin, double hc, double lp) {
+void expectComplete(const Vec<Dim>& x, const Vec<Dim>& origin, double hc, const Vec<Dim>& lp) {
   const auto b = mpm::block<Shape, Dim>(x, origin, hc, lp);
   double sum = 0.0;
   Vec<Dim> first = Vec<Dim>::Zero(), grad = Vec<Dim>::Zero();
@@ -85,14 +86,14 @@ template <MpmShape Shape, int Dim> void checkShape(double lpOverHc) {
   for (int t = 0; t < 200; ++t) {
     Vec<Dim> x;
     for (int a = 0; a < Dim; ++a) x[a] = u(rng);
-    expectComplete<Shape, Dim>(x, origin, hc, lp);
+    expectComplete<Shape, Dim>(x, origin, hc, Vec<Dim>::Constant(lp));
   }
   // On a node, on a cell face (half-way), and where GIMP's branches meet (lp and hc - lp
   // from a node): the known places where GIMP implementations lose a node or count one twice.
   for (double xi : {0.0, 0.5, 3.0, 3.5, -2.5, lpOverHc, 1.0 - lpOverHc, 2.0 + lpOverHc}) {
     Vec<Dim> x;
     for (int a = 0; a < Dim; ++a) x[a] = origin[a] + (xi + (a == 1 ? 0.25 : 0.0)) * hc;
-    expectComplete<Shape, Dim>(x, origin, hc, lp);
+    expectComplete<Shape, Dim>(x, origin, hc, Vec<Dim>::Constant(lp));
   }
 }
 
@@ -110,6 +111,55 @@ TEST(MpmShapes, GimpIsCompleteIn1D2D3DUpToHalfACell) {
     checkShape<MpmShape::Gimp, 2>(r);
     checkShape<MpmShape::Gimp, 3>(r);
   }
+}
+
+// cpGIMP: a box of its own half-width along each axis (the deformed domain's, gimpBox) keeps
+// GIMP's completeness, at random places and where each axis's branches meet.
+template <int Dim> void checkCpGimp() {
+  const double hc = 0.3;
+  Vec<Dim> origin;
+  for (int a = 0; a < Dim; ++a) origin[a] = -1.1 + 0.2 * a;
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-2.0, 3.0), f(-0.6, 0.6);
+  for (int t = 0; t < 200; ++t) {
+    // A domain of 0.3 cells deformed by a random F: half-widths from 0.12 cells to the half-cell
+    // bound. (Narrower boxes are as complete, but their slopes, up to 1/hc, cancel to a rounding
+    // that grows as hc/l_p: 1e-13 would not bound it.)
+    const Tensor<Dim> F =
+        Tensor<Dim>::Identity() + Tensor<Dim>::NullaryExpr([&] { return f(rng); });
+    const Vec<Dim> lp = mpm::gimpBox<Dim>(0.3 * hc * F, hc);
+    for (int a = 0; a < Dim; ++a) ASSERT_LE(lp[a], 0.5 * hc);
+    Vec<Dim> x;
+    for (int a = 0; a < Dim; ++a) x[a] = u(rng);
+    expectComplete<MpmShape::Gimp, Dim>(x, origin, hc, lp);
+    for (int a = 0; a < Dim; ++a) // on the edges of axis a's branches
+      for (double xi : {lp[a] / hc, 1.0 - lp[a] / hc, 1.0 + lp[a] / hc, 0.5}) {
+        Vec<Dim> y = x;
+        y[a] = origin[a] + (2.0 + xi) * hc;
+        expectComplete<MpmShape::Gimp, Dim>(y, origin, hc, lp);
+      }
+  }
+}
+
+TEST(MpmShapes, CpGimpBoxFollowsStretchNotRotationAndIsComplete) {
+  const double hc = 1.0, l0 = 0.2;
+  // A stretch along the axes scales the half-widths; a rotation keeps them (F's diagonal, the
+  // usual cpGIMP choice, would shrink them by cos 30 degrees); a shear gamma lengthens the
+  // sheared axis by sqrt(1 + gamma^2); past half a cell the box stops there.
+  EXPECT_EQ(mpm::gimpBox<2>(l0 * Vec<2>(1.5, 0.4).asDiagonal().toDenseMatrix(), hc),
+            Vec<2>(1.5 * l0, 0.4 * l0));
+  const double c = std::cos(std::numbers::pi / 6.0), s = std::sin(std::numbers::pi / 6.0);
+  Tensor<2> Q;
+  Q << c, -s, s, c;
+  EXPECT_LT((mpm::gimpBox<2>(l0 * Q, hc) - Vec<2>::Constant(l0)).norm(), 1e-15);
+  Tensor<3> shear = Tensor<3>::Identity();
+  shear(0, 2) = 0.75;
+  EXPECT_LT((mpm::gimpBox<3>(l0 * shear, hc) - Vec<3>(1.25 * l0, l0, l0)).norm(), 1e-15);
+  EXPECT_EQ(mpm::gimpBox<3>(l0 * Vec<3>(4.0, 1.0, 0.1).asDiagonal().toDenseMatrix(), hc),
+            Vec<3>(0.5 * hc, l0, 0.1 * l0));
+  checkCpGimp<1>();
+  checkCpGimp<2>();
+  checkCpGimp<3>();
 }
 
 TEST(MpmShapes, GimpIsContinuousWithItsSlope) {
@@ -213,7 +263,7 @@ TEST(MpmShapes, CpdiOfAPointInsideOneCellIsTheTent) {
   R << 0.1, 0.05, -0.02, 0.2;
   const auto w = mpm::cpdi<2>(x, R, origin, hc);
   ASSERT_EQ(w.count, 4);
-  const auto b = mpm::block<MpmShape::Linear, 2>(x, origin, hc, 0.0);
+  const auto b = mpm::block<MpmShape::Linear, 2>(x, origin, hc, Vec<2>::Zero());
   for (int q = 0; q < 4; ++q) {
     const auto k = mpm::blockOffset<MpmShape::Linear, 2>(q);
     int e = 0;

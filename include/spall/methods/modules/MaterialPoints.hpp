@@ -3,8 +3,9 @@
 // A_0 its volume m / rho at its start (in rz its area in the r-z plane, m / (2 pi r rho)): the
 // body's spacing on a cubic lattice. Its GIMP weights average over the box; uGIMP keeps l_p as
 // it was made (Bardenhagen & Kober 2004). CPDI's domain starts as that box, R = l_p I, and
-// follows the motion (methods/MpmMethod: R_n+1 = (I + dt L) R_n). With APIC each point carries
-// its velocity gradient C_p (solvers/MpmGrid.hpp).
+// follows the motion (methods/MpmMethod: R_n+1 = (I + dt L) R_n); so does cpGIMP's, whose
+// box is the domain's extent along the axes (solvers/MpmShapes.hpp, gimpBox). With APIC each point
+// carries its velocity gradient C_p (solvers/MpmGrid.hpp).
 #include "spall/methods/Module.hpp"
 #include "spall/solvers/Config.hpp"
 
@@ -16,8 +17,8 @@ namespace spall::methods {
 template <int Dim> class MaterialPoints final : public Module<Dim> {
 public:
   MaterialPoints(bool axisymmetric, const MpmConfig& c)
-      : rz_(axisymmetric), domains_(c.shape == MpmShape::Cpdi), viscous_(c.viscous()),
-        affine_(c.transfer == MpmTransfer::Apic) {}
+      : rz_(axisymmetric), domains_(c.shape == MpmShape::Cpdi || c.shape == MpmShape::CpGimp),
+        viscous_(c.viscous()), affine_(c.transfer == MpmTransfer::Apic) {}
   void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override {
     f.halfWidth = s.add<double>("particle_half_width", kOutput | kCheckpoint | kHalo);
     if (domains_) f.domain = s.add<Tensor<Dim>>("particle_domain", kOutput | kCheckpoint | kHalo);
