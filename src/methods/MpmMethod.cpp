@@ -132,7 +132,17 @@ template <int Dim> void MpmMethod<Dim>::advance(double dt, std::int64_t step, do
     // The loads act through the whole step as the state at t_n set them (not the leapfrog's
     // two half-kicks): the step's work is dt times their power, with the points' new
     // velocities (damping: -c m v_n+1 . v_n+1 for -c m v_n . v, an error of order c dt).
-    bookExternalStep(dt, externalLoad(time));
+    // A fixed point's a is the support's share it cancels (solvers/MpmGrid): -m a is the
+    // support's force on it, booked as SPH's FixedBodies books it.
+    support_.clear();
+    if (!fixedBodies_.empty()) {
+      const auto a = s_[f_.a];
+      const auto m = s_[f_.m];
+      support_.assign(s_.localCount(), Vec<Dim>::Zero());
+      for (std::size_t i = 0; i < s_.localCount(); ++i)
+        if (fixedRow_[i]) support_[i] = -m[i] * a[i], a[i].setZero();
+    }
+    bookExternalStep(dt, externalLoad(time, support_));
   }
   stats_.phases.time(kExchange, [&] { halo_.refresh(s_, velocityField_); });
   const std::size_t n = s_.localCount();

@@ -76,13 +76,15 @@ diagnostics::FragmentCatalogue ParticleMethod<Dim>::findFragments(double linkLen
   return cat;
 }
 
-template <int Dim> ExternalLoad ParticleMethod<Dim>::externalLoad(double time) const {
-  if (std::none_of(modules_.begin(), modules_.end(),
-                   [](const auto& m) { return m->appliesExternalForces(); }))
+template <int Dim>
+ExternalLoad ParticleMethod<Dim>::externalLoad(double time, std::span<const Vec<Dim>> extra) const {
+  if (extra.empty() && std::none_of(modules_.begin(), modules_.end(),
+                                    [](const auto& m) { return m->appliesExternalForces(); }))
     return {}; // no reduction
   const std::size_t n = s_.localCount();
   externalForce_.assign(n, Vec<Dim>::Zero());
   for (const auto& m : modules_) m->addExternalForces(s_, f_, time, externalForce_);
+  for (std::size_t i = 0; i < std::min(n, extra.size()); ++i) externalForce_[i] += extra[i];
   // Power F . v and force, summed independently of the particles' order and ranks.
   const auto v = s_[f_.v];
   const auto sums = diagnostics::orderFreeSums<4>(

@@ -34,7 +34,7 @@ public:
     return allocatedBytes(walls_, radius_, start_, X_, begin_, entryKey_, node_, S_, grad_, first_,
                           key_, box_, head_, site_, next_, fieldOf_, mass_, volume_, momentum_,
                           force_, velocity_, increment_, gradV_, beforeContact_, nodeLoad_,
-                          nodeMass_, area_, rigid_, rigidV_);
+                          nodeMass_, area_, rigid_, rigidV_, fixedMass_, fixedMomentum_, support_);
   }
 
   void project(const MpmParticles<Dim>& P, std::span<const std::uint32_t> order,
@@ -51,10 +51,12 @@ public:
     force_.assign(N, Vec<Dim>::Zero());
     if (multi_) gradV_.assign(N, Vec<Dim>::Zero()), volume_.assign(N, 0.0);
     if (loaded) area_.assign(key_.size(), Vec<Dim>::Zero());
-    if (rigid)
+    if (rigid) {
       rigid_.assign(N, 0), rigidV_.assign(N, Vec<Dim>::Zero());
-    else
+      fixedMass_.assign(N, 0.0), fixedMomentum_.assign(N, Vec<Dim>::Zero());
+    } else {
       rigid_.clear();
+    }
     const bool solid = !P.S.empty(), viscous = !P.q.empty(), affine = !P.affine.empty();
     if (affine) { // each node's place (with contact, each field's)
       X_.resize(N);
@@ -92,7 +94,14 @@ public:
             area_[L] += V * g;
           }
         }
-        if (rigid && P.rigid[r] && S_[e] > 0.0 && !rigid_[I]) rigid_[I] = 1, rigidV_[I] = P.v[r];
+        if (rigid && P.rigid[r]) {
+          if (S_[e] > 0.0 && !rigid_[I]) rigid_[I] = 1, rigidV_[I] = P.v[r];
+          fixedMass_[I] += S_[e] * P.m[r];
+          if (affine)
+            fixedMomentum_[I] += S_[e] * (mv + mC * (X_[I] - P.x[r]));
+          else
+            fixedMomentum_[I] += S_[e] * mv;
+        }
       }
     }
     if (loaded) applyLoads();
@@ -129,6 +138,7 @@ public:
       increment_[I] = velocity_[I] - before[I];
     }
     if (loaded) shareLoads(P);
+    if (rigid) supports(dt);
     // G2P on the owned rows (rz: their radii at the step's start kept for the hoop rate).
     if (rz_) {
       radius_.resize(P.owned);
@@ -143,7 +153,11 @@ public:
     for (std::size_t r = 0; r < P.owned; ++r) {
       if (rigid && P.rigid[r]) { // a fixed body moves at its own velocity
         P.x[r] += dt * P.v[r];
-        P.a[r].setZero();
+        // What the support cancels (supports()): its share of the nodes' support impulse.
+        Vec<Dim> a = Vec<Dim>::Zero();
+        for (std::size_t e = from(r); e < to(r); ++e)
+          if (fixedMass_[node_[e]] > 0.0) a += (S_[e] / fixedMass_[node_[e]]) * support_[node_[e]];
+        P.a[r] = a;
         continue;
       }
       Vec<Dim> vPic = Vec<Dim>::Zero(), dv = Vec<Dim>::Zero();
@@ -389,6 +403,36 @@ private:
     for (std::size_t I = 0; I < v.size(); ++I)
       if (rigid_[I]) v[I] = rigidV_[I];
   }
+  // The support's impulse at each node a fixed body holds, the momentum the step hands the
+  // other points there beyond the nodes' forces: J = sum over the node's fields of what G2P
+  // gives the points that are not fixed (FLIP: (m - m_fix) dv; PIC and APIC: (m - m_fix) v -
+  // (p - p_fix); blended by flip) minus dt f. The forces of all nodes sum to the external ones
+  // (the stresses' cancel), so the J add up to the momentum change no force explains: what the
+  // prescribed velocities and the contact against a held field did. Each held field keeps
+  // -J / dt by its share of the fixed mass; G2P hands it to the fixed points as the
+  // acceleration the support cancels (methods/MpmMethod books -m a, as SPH's FixedBodies).
+  void supports(double dt) {
+    const double phi = c_.transfer == MpmTransfer::Apic ? 0.0 : c_.flip;
+    support_.assign(fields(), Vec<Dim>::Zero());
+    const auto fieldsAt = [&](std::size_t L, auto&& each) {
+      if (!multi_) return each(static_cast<std::uint32_t>(L));
+      for (std::uint32_t b = head_[L]; b != kNone; b = next_[b]) each(b);
+    };
+    for (std::size_t L = 0; L < key_.size(); ++L) {
+      Vec<Dim> J = Vec<Dim>::Zero();
+      double held = 0.0;
+      fieldsAt(L, [&](std::uint32_t b) {
+        const double m = mass_[b] - fixedMass_[b];
+        const Vec<Dim> p = momentum_[b] - fixedMomentum_[b];
+        J += phi * m * increment_[b] + (1.0 - phi) * (m * velocity_[b] - p) - dt * force_[b];
+        if (rigid_[b]) held += fixedMass_[b];
+      });
+      if (!(held > 0.0)) continue;
+      fieldsAt(L, [&](std::uint32_t b) {
+        if (rigid_[b]) support_[b] = (-fixedMass_[b] / (held * dt)) * J;
+      });
+    }
+  }
 
   std::size_t fields() const {
     return multi_ ? site_.size() : key_.size();
@@ -509,6 +553,9 @@ private:
   // Fixed bodies: per node whether one weighs on it, and its velocity.
   std::vector<std::uint8_t> rigid_;
   std::vector<Vec<Dim>> rigidV_;
+  // Fixed points' mass and momentum at each node, and the support's force there (supports()).
+  std::vector<double> fixedMass_;
+  std::vector<Vec<Dim>> fixedMomentum_, support_;
 };
 
 } // namespace spall::solvers::grid

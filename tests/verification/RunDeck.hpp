@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 #include <string>
@@ -97,6 +98,16 @@ inline std::map<std::string, std::vector<double>> readHistory(const std::filesys
       out[names[k]].push_back(parseDouble(cell));
   }
   return out;
+}
+
+// A number of summary.json by its key ("momentum_relative"); -1 where the key is absent or null.
+inline double summaryNumber(const std::filesystem::path& dir, const std::string& key) {
+  std::ifstream in(dir / "summary.json");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string quoted = "\"" + key + "\": ";
+  const auto at = text.find(quoted);
+  if (at == std::string::npos || text.compare(at + quoted.size(), 4, "null") == 0) return -1.0;
+  return std::stod(text.substr(at + quoted.size()));
 }
 
 } // namespace spall::verification

@@ -52,12 +52,7 @@ PlateRun run(double resolution, double endTime, const std::string& tag) {
   const auto h = readHistory(dir);
   const double e0 = h.at("total_energy").front();
   for (double e : h.at("total_energy")) out.drift = std::max(out.drift, std::abs(e - e0) / e0);
-  std::ifstream summaryFile(dir / "summary.json");
-  const std::string summary((std::istreambuf_iterator<char>(summaryFile)),
-                            std::istreambuf_iterator<char>());
-  const std::string key = "\"momentum_relative\": ";
-  if (const auto at = summary.find(key); at != std::string::npos)
-    out.momentum = std::stod(summary.substr(at + key.size()));
+  out.momentum = summaryNumber(dir, "momentum_relative");
   std::filesystem::remove_all(dir);
   EXPECT_GT(out.period, 0.0) << "the tip never turned back by t = " << endTime;
   return out;

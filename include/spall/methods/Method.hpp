@@ -45,9 +45,6 @@ public:
   // confining pressure, damping): what the total energy and momentum are expected to have gained.
   virtual double externalWork() const = 0;
   virtual std::array<double, 3> externalImpulse() const = 0;
-  // Whether those books hold the supports of fixed bodies too (their reaction's work and
-  // impulse): the energy's watch judges only complete books.
-  virtual bool booksSupportWork() const { return true; }
   // MPM's background grid of the state now (collective), the nodes this rank writes in a
   // snapshot; a method without a grid has none.
   virtual solvers::GridNodes<Dim> gridNodes() { return {}; }

@@ -27,15 +27,13 @@ public:
   // times nodes_per_h, as SPH's at the start.
   double support() const override { return 2.0; }
   solvers::GridNodes<Dim> gridNodes() override;
-  // A fixed body's support acts on grid nodes, not through the points' a: not booked.
-  bool booksSupportWork() const override { return setup_.fixedBodies.empty(); }
   void save(io::CheckpointState& st) const override;
   void restore(const io::CheckpointState& st) override;
   std::vector<MemoryPart> memoryParts() const override {
     return {{"halo", this->haloBytes()},
             {"mpm_grid", grid_ ? grid_->bytes() : 0},
             {"solver_scratch",
-             allocatedBytes(fixedRow_, order_, L_, work_, rhoMid_, reach_, boxReach_) +
+             allocatedBytes(fixedRow_, support_, order_, L_, work_, rhoMid_, reach_, boxReach_) +
                  this->loadBytes() + this->cellGridBytes()}};
   }
 
@@ -66,6 +64,7 @@ private:
   std::vector<std::size_t> loadFields_;
   std::vector<std::int32_t> fixedBodies_; // sorted
   std::vector<std::uint8_t> fixedRow_;    // per row (owned and ghosts): a fixed body's point
+  std::vector<Vec<Dim>> support_;         // the step's support force on each owned point
   std::vector<std::uint32_t> order_;      // rows in id order: every node sums in it
   std::vector<Tensor<3>> L_;              // the step's velocity gradient (fluids: no L field)
   std::vector<double> work_, rhoMid_;     // deform(): sigma_n : D and rho_{n+1/2} per point

@@ -69,7 +69,8 @@ protected:
   std::size_t cellGridBytes() const { return grid_.bytes(); }
   std::size_t loadBytes() const { return allocatedBytes(externalForce_); }
 
-  ExternalLoad externalLoad(double time) const; // all ranks
+  // all ranks; `extra`: forces on the owned rows beside the modules' (MPM's supports)
+  ExternalLoad externalLoad(double time, std::span<const Vec<Dim>> extra = {}) const;
   void bookExternal(double dt, const ExternalLoad& now);
   // A method whose loads act through the whole step from one state (MPM): dt times their load.
   void bookExternalStep(double dt, const ExternalLoad& load);

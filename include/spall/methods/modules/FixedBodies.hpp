@@ -4,8 +4,8 @@
 // still carry density, stress and energy, and the forces they exert on the rest are the reaction of
 // the support. The support's force on each particle, -m a of the rates it cancels, is an external
 // force: its work (a piston's, F . v; a clamp's is zero) and impulse go in the books. MPM: the
-// grid nodes they weigh on move at their velocity (solvers/MpmGrid); the points' a there holds
-// no internal force, so MPM books none of the support's work (Method::booksSupportWork).
+// grid nodes they weigh on move at their velocity (solvers/MpmGrid); the impulse those nodes
+// take from the step is shared among the fixed points there, and MpmMethod books it likewise.
 #include "spall/methods/Module.hpp"
 
 #include <algorithm>
