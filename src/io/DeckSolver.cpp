@@ -27,7 +27,7 @@ void readSolver(const TableReader& r, SolverConfig& s) {
       mp.check(*v >= 0.0, "cell_size", ">= 0 (0: twice the finest body spacing)", *v);
       s.mpm.cell_size = *v;
     }
-    const std::string shape = mp.choice("shape", {"linear", "gimp", "cpgimp", "cpdi"}, "gimp");
+    const std::string shape = mp.choice("shape", {"linear", "gimp", "cpgimp", "cpdi"}, "cpgimp");
     s.mpm.shape = shape == "linear"   ? MpmShape::Linear
                   : shape == "cpdi"   ? MpmShape::Cpdi
                   : shape == "cpgimp" ? MpmShape::CpGimp

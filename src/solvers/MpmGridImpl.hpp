@@ -74,6 +74,11 @@ public:
       Vec<Dim> hoop = Vec<Dim>::Zero();
       const double rp = rz_ ? radius(P, r) : 1.0;
       if (rz_) hoop[0] = ((solid ? P.S[r](2, 2) : 0.0) - p) / rp;
+      // The contact normal's weight: the point's area in the r-z plane in rz (its ring's volume
+      // over 2 pi r_p), for its ring's volume grows with r wherever the body is, not only at
+      // its surface: weighted by it, a normal one cell off the axis leaned outward by up to 45
+      // degrees, and the rod's axial rings slid past the block's (rz penetration at 1.05 U_B).
+      const double A = rz_ ? V / rp : V;
       for (std::size_t e = from(r); e < to(r); ++e) {
         const std::uint32_t I = node_[e];
         mass_[I] += S_[e] * P.m[r];
@@ -82,7 +87,7 @@ public:
         else
           momentum_[I] += S_[e] * mv;
         force_[I] -= V * (sigma * grad_[e] + S_[e] * hoop);
-        if (multi_) gradV_[I] += V * grad_[e], volume_[I] += S_[e] * V;
+        if (multi_) gradV_[I] += A * grad_[e], volume_[I] += S_[e] * V;
         if (external) force_[I] += (S_[e] * P.m[r]) * P.aExt[r];
         if (loaded) {
           // The load's area at the node: the shift sigma + P_I I's force is -P_I of it (with

@@ -90,7 +90,7 @@ enum class MpmTransfer {
 };
 struct MpmConfig {
   double cell_size = 0.0; // m; 0: twice the finest body spacing (io/Deck resolves it)
-  MpmShape shape = MpmShape::Gimp;
+  MpmShape shape = MpmShape::CpGimp;
   MpmTransfer transfer = MpmTransfer::Flip;
   double flip = 1.0; // Flip: 1 is FLIP's velocity update, 0 PIC's, between the blend
   // The bulk viscosity q = rho (C_Q (l tr D)^2 - C_L l c tr D) in compression (tr D < 0), l the

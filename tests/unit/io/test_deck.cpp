@@ -605,14 +605,15 @@ TEST_F(DeckTest, MpmTakesItsTableAndRefusesWhatItCannotDoYet) {
   EXPECT_EQ(d.solver.method, "mpm");
   EXPECT_EQ(d.solver.mpm.shape, spall::MpmShape::Linear);
   EXPECT_EQ(d.solver.mpm.flip, 0.5);
-  EXPECT_EQ(load(withLine(kDeck1D, 7, "method = \"mpm\"")).solver.mpm.shape, spall::MpmShape::Gimp);
+  EXPECT_EQ(load(withLine(kDeck1D, 7, "method = \"mpm\"")).solver.mpm.shape,
+            spall::MpmShape::CpGimp);
   expectError(withLine(kDeck1D, 7, "mpm = { flip = 0.5 }"), 7, 7, "set method = \"mpm\"");
   EXPECT_EQ(
       load(withLine(kDeck1D, 7, "method = \"mpm\"\nmpm = { shape = \"cpdi\" }")).solver.mpm.shape,
       spall::MpmShape::Cpdi);
   EXPECT_EQ(
-      load(withLine(kDeck1D, 7, "method = \"mpm\"\nmpm = { shape = \"cpgimp\" }")).solver.mpm.shape,
-      spall::MpmShape::CpGimp);
+      load(withLine(kDeck1D, 7, "method = \"mpm\"\nmpm = { shape = \"gimp\" }")).solver.mpm.shape,
+      spall::MpmShape::Gimp);
   expectError(withLine(kDeck1D, 7, "method = \"mpm\"\nmpm = { shape = \"bspline\" }"), 8, 17,
               "linear, gimp, cpgimp, cpdi");
   expectError(withLine(kDeck1D, 7, "method = \"mpm\"\nmpm = { flip = 1.5 }"), 8, 16, "in [0, 1]");
