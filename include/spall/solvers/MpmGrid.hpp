@@ -30,8 +30,8 @@
 // particle (contact groups), every node carries a mass, momentum and force per field present, and
 // where several meet, a field moving toward the others is stopped along the interface's normal:
 // with v_cm the node's centre-of-mass velocity and n_b the field's outward normal (from the
-// fields' g = sum_p V_p grad S_Ip, which points out of a field's material at its surface:
-// n_b ~ g_b - sum_{c != b} g_c),
+// fields' g = sum_p V_p grad S_Ip, which points out of a field's material at its surface, in rz
+// with the points' areas V_p / r_p in the r-z plane: n_b ~ g_b - sum_{c != b} g_c),
 //   (v_b - v_cm) . n_b > 0  =>  v_b <- v_b - ((v_b - v_cm) . n_b) n_b,
 // where the fields' material fills the node's support (a gap is not a contact: MpmGridContact.hpp),
 // applied to the grid velocities before the force, after it (the force acting on the corrected

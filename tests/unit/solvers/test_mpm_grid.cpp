@@ -666,7 +666,6 @@ std::vector<Vec<2>> stepTwoBlocks(const Vec<2>& vLower, const Vec<2>& vUpper, do
   const MpmConfig config = gridConfig(1.0, MpmShape::Gimp, 0.0);
   std::vector<GridWall<2>> axis;
   if (rz) axis.push_back(GridWall<2>{Vec<2>::Zero(), Vec<2>(1.0, 0.0)});
-  // (rz: the nodes' rows half a cell off the interface, so that a node's two fields differ.)
   auto grid = makeMpmGrid<2>(config, Vec<2>(0.0, rz ? 0.5 : 0.0), axis, rz);
   auto P = points<2>(x, v, a, m, rho, p, lp, {}, x.size());
   if (contact) P.field = field;
