@@ -141,6 +141,8 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl, std::size_
     const auto row = nl.of(i, rowBuf);
     [[maybe_unused]] thread_local std::vector<PairKernel> kernelRow; // each thread's own
     if constexpr (KernelPass) pairKernels(xi, hiInv, gradNormI, row, kernelRow);
+    [[maybe_unused]] thread_local std::vector<AnisoPairKernel> anisoRow; // each thread's own
+    if constexpr (Aniso) anisoPairKernels(xi, i, row, anisoRow);
     const double rhoi = rho[i], ci = cs[i];
     const std::int32_t bodyi = body[i];
     const RowScratch& ri = rowScratch_[i];
@@ -184,26 +186,13 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl, std::size_
       [[maybe_unused]] double hbarOverR = 0.0;
       [[maybe_unused]] double qMean; // the pair's mean normalised distance
       if constexpr (Aniso) {
-        // In the metric G = H^T H: eta^2 = x . G x and the gradient det(H) W'(eta) G x / eta,
-        // so the pair needs two matrix-vector products, not four.
-        const AnisoRow &rowI = anisoRow_[i], &rowJ = anisoRow_[j];
-        const Vec<Dim> gi = rowI.G * xij, gj = rowJ.G * xij;
-        const double etaI2 = xij.dot(gi), etaJ2 = xij.dot(gj);
-        if (!(etaI2 > 0.0 && etaJ2 > 0.0)) continue; // coincident in eta (underflow)
-        // The divisions start from the squares, in parallel with the square roots (the pair's
-        // chain of dependent latencies is what this loop waits on).
-        const double etaI2Inv = 1.0 / etaI2, etaJ2Inv = 1.0 / etaJ2;
-        const double etaI = std::sqrt(etaI2), etaJ = std::sqrt(etaJ2);
-        const double etaIInv = etaI * etaI2Inv, etaJInv = etaJ * etaJ2Inv;
-        const double dfI = etaI < K::support ? K::df(etaI) : 0.0;
-        const double dfJ = etaJ < K::support ? K::df(etaJ) : 0.0;
-        gradWi = (rowI.normGrad * dfI * etaIInv) * gi;
-        gradW = 0.5 * (gradWi + (rowJ.normGrad * dfJ * etaJInv) * gj);
-        hbarOverR = 0.5 * (etaIInv + etaJInv);
-        qMean = 0.5 * (etaI + etaJ);
-        // Owen (2010), Eq. 1 with W^H = |dW/deta| (Sec. II-C). W^H = 0 outside i's support, so a
-        // neighbor that only j's support reaches adds nothing (no branch).
-        sumWHi += sigma * std::abs(dfI);
+        const AnisoPairKernel& pk = anisoRow[k];
+        if (pk.coincident) continue; // coincident in eta (underflow)
+        gradWi = pk.gWi;
+        gradW = pk.gW;
+        hbarOverR = pk.hbarOverR;
+        qMean = pk.qMean;
+        sumWHi += pk.wH;
       } else {
         if constexpr (KernelPass) {
           const PairKernel& pk = kernelRow[k];
