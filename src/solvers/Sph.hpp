@@ -342,7 +342,9 @@ private:
       const std::uint32_t j = row[k];
       const Vec<Dim> xij = xi - x[j];
       const AnisoRow& rowJ = anisoRow_[j];
-      // In the metric G = H^T H: eta^2 = x . G x and the gradient det(H) W'(eta) G x / eta.
+      // In the metric G = H^T H: eta^2 = x . G x and the gradient det(H) W'(eta) G x / eta,
+      // so the pair needs two matrix-vector products, not four. (The divisions start from the
+      // squares, in parallel with the square roots.)
       const Vec<Dim> gi = rowI.G * xij, gj = rowJ.G * xij;
       const double etaI2 = xij.dot(gi), etaJ2 = xij.dot(gj);
       AnisoPairKernel& pk = out[k];

@@ -12,7 +12,8 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl, std::size_
   constexpr bool Corrected = Mode == Stress::CorrectedCauchy;
   // The kernel values of a row in a pass of their own (Sph::pairKernels): the solids' long pair
   // loop gains (taylor_bar_3d +5%), the hydro loop, short enough to overlap its pairs itself,
-  // loses (sedov_3d -8%).
+  // loses (sedov_3d -8%). ASPH's pairs always take theirs in a pass (Sph::anisoPairKernels:
+  // with ASPH taylor_bar_3d +3.5%, sedov_3d the same).
   constexpr bool KernelPass = Solid && !Aniso;
   using MatD = Tensor<Dim>;
   const auto x = s_[f_.x];
@@ -141,8 +142,8 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl, std::size_
     const auto row = nl.of(i, rowBuf);
     [[maybe_unused]] thread_local std::vector<PairKernel> kernelRow; // each thread's own
     if constexpr (KernelPass) pairKernels(xi, hiInv, gradNormI, row, kernelRow);
-    [[maybe_unused]] thread_local std::vector<AnisoPairKernel> anisoRow; // each thread's own
-    if constexpr (Aniso) anisoPairKernels(xi, i, row, anisoRow);
+    [[maybe_unused]] thread_local std::vector<AnisoPairKernel> anisoKernelRow; // each thread's
+    if constexpr (Aniso) anisoPairKernels(xi, i, row, anisoKernelRow);
     const double rhoi = rho[i], ci = cs[i];
     const std::int32_t bodyi = body[i];
     const RowScratch& ri = rowScratch_[i];
@@ -186,7 +187,7 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl, std::size_
       [[maybe_unused]] double hbarOverR = 0.0;
       [[maybe_unused]] double qMean; // the pair's mean normalised distance
       if constexpr (Aniso) {
-        const AnisoPairKernel& pk = anisoRow[k];
+        const AnisoPairKernel& pk = anisoKernelRow[k];
         if (pk.coincident) continue; // coincident in eta (underflow)
         gradWi = pk.gWi;
         gradW = pk.gW;
