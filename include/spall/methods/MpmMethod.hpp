@@ -32,9 +32,9 @@ public:
   std::vector<MemoryPart> memoryParts() const override {
     return {{"halo", this->haloBytes()},
             {"mpm_grid", grid_ ? grid_->bytes() : 0},
-            {"solver_scratch",
-             allocatedBytes(fixedRow_, support_, order_, L_, work_, rhoMid_, reach_, boxReach_) +
-                 this->loadBytes() + this->cellGridBytes()}};
+            {"solver_scratch", allocatedBytes(fixedRow_, support_, order_, idRow_, idRowTmp_, L_,
+                                              work_, rhoMid_, reach_, boxReach_) +
+                                   this->loadBytes() + this->cellGridBytes()}};
   }
 
 private:
@@ -52,10 +52,13 @@ private:
   void idOrder();
   void loads(double time);
   void deform(double dt);
+  void migrateIfStale(double dt, std::int64_t step);
 
   MethodSetup setup_;
   Vec<Dim> origin_ = Vec<Dim>::Zero(); // the grid's node 0: set at t = 0, checkpointed
   bool originPlaced_ = false;
+  double travel_ = 0.0;     // a bound on any point's travel since the last migration (checkpointed)
+  bool rebalanced_ = false; // the last step ended in a rebalance
   std::unique_ptr<solvers::MpmGrid<Dim>> grid_;
   std::vector<std::size_t> haloFields_, velocityField_;
   // Loads and supports: whether the step has any (damping, a pressure boundary, fixed bodies),
@@ -68,6 +71,8 @@ private:
   std::vector<std::uint32_t> order_;      // rows in id order: every node sums in it
   std::vector<Tensor<3>> L_;              // the step's velocity gradient (fluids: no L field)
   std::vector<double> work_, rhoMid_;     // deform(): sigma_n : D and rho_{n+1/2} per point
+  // (id - min id, row) of every row, and the radix passes' other buffer (idOrder).
+  std::vector<std::pair<ParticleId, std::uint32_t>> idRow_, idRowTmp_;
   std::vector<double> reach_;
   std::vector<Vec<Dim>> boxReach_;
 };

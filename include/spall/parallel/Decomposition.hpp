@@ -64,6 +64,7 @@ public:
   void restore(const DecompositionState& state);
   // After a drift: moves every owned particle whose key left this rank's part to its owner.
   MigrationStats migrate(ParticleStore& s, std::int64_t step);
+  int reorderEvery() const { return cfg_.reorderEvery; }
   // max/mean of the summed cost over ranks (collective).
   double imbalance(const ParticleStore& s) const;
   bool rebalanceDue(std::int64_t step, double imbalance) const;
