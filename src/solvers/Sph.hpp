@@ -17,7 +17,9 @@
 #include "spall/solvers/VoronoiCell.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 
 namespace spall::solvers::sph {
@@ -296,70 +298,136 @@ private:
                                        0.5 * (isochoric_[i] + isochoric_[j]));
   }
   // SPH: the kernel values of the pairs of a row, before the force loop visits it. The square
-  // root, the division and the kernel's branches of a pair wait on each other; in a short loop
-  // of their own consecutive pairs overlap, where the long pair loop of a solid waited for each
-  // pair's chain (taylor_bar_3d +5%).
-  struct PairKernel {
-    double gW;    // (dW_i + dW_j)/2 / r: grad W = gW x_ij, the pair's mean gradient
-    double gWi;   // dW_i / r: i's own gradient (continuity)
-    double qMean; // (q_i + q_j)/2
-    double wH;    // W^H(q_i), 0 outside i's support (Owen 2010, Sec. II-C)
+  // root, the division and the kernel of a pair wait on each other; in a short loop of their own,
+  // written to columns and without branches (df is 0 outside the support), the compiler runs a
+  // vector register's worth of pairs at once (gathers of x_j, 1/h_j and j's normalisation).
+  // It needs -fno-math-errno (CMakeLists.txt): else a square root may call the library.
+  struct PairKernels {
+    std::vector<double> gW;    // (dW_i + dW_j)/2 / r: grad W = gW x_ij, the pair's mean gradient
+    std::vector<double> gWi;   // dW_i / r: i's own gradient (continuity)
+    std::vector<double> qMean; // (q_i + q_j)/2
+    std::vector<double> wH;    // W^H(q_i) = sigma |df(q_i)|, 0 outside i's support (Owen 2010)
   };
   void pairKernels(const Vec<Dim>& xi, double hiInv, double gradNormI,
-                   std::span<const std::uint32_t> row, std::vector<PairKernel>& out) const {
-    const auto x = s_[f_.x];
-    out.resize(row.size());
-    for (std::size_t k = 0; k < row.size(); ++k) {
-      const std::uint32_t j = row[k];
-      const double r2 = (xi - x[j]).squaredNorm();
-      const RowScratch& rj = rowScratch_[j];
+                   std::span<const std::uint32_t> row, PairKernels& out) const {
+    static_assert(sizeof(Vec<Dim>) == Dim * sizeof(double) &&
+                  sizeof(RowScratch) % sizeof(double) == 0 &&
+                  offsetof(RowScratch, gradNorm) == sizeof(double));
+    constexpr std::size_t kStride = sizeof(RowScratch) / sizeof(double);
+    const std::size_t n = row.size();
+    for (auto* c : {&out.gW, &out.gWi, &out.qMean, &out.wH})
+      if (c->size() < n) c->resize(n);
+    const double* x = s_[f_.x].data()->data();
+    const double* scratch = &rowScratch_.data()->hInv; // hInv, gradNorm, ... of every row
+    const std::uint32_t* js = row.data();
+    double *gW = out.gW.data(), *gWi = out.gWi.data(), *qMean = out.qMean.data(),
+           *wH = out.wH.data();
+    const double sigma = K::sigma();
+    std::array<double, Dim> at;
+    for (int d = 0; d < Dim; ++d) at[static_cast<std::size_t>(d)] = xi[d];
+#pragma omp simd
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t j = js[k];
+      double r2 = 0.0;
+      for (std::size_t d = 0; d < Dim; ++d) {
+        const double dx = at[d] - x[Dim * j + d];
+        r2 += dx * dx;
+      }
       // r = 0 gives inf here; the pair loop skips coincident pairs before reading it.
       const double r = std::sqrt(r2), rInv = 1.0 / r;
-      const double qi = r * hiInv, qj = r * rj.hInv;
-      const double dWi = qi < K::support ? gradNormI * K::df(qi) : 0.0;
-      const double dWj = qj < K::support ? rj.gradNorm * K::df(qj) : 0.0;
-      out[k] = {0.5 * (dWi + dWj) * rInv, dWi * rInv, 0.5 * (qi + qj),
-                qi < K::support ? KW::WH(qi) : 0.0};
+      const double qi = r * hiInv, qj = r * scratch[kStride * j];
+      const double dfi = K::df(qi);
+      const double dWi = gradNormI * dfi, dWj = scratch[kStride * j + 1] * K::df(qj);
+      gW[k] = 0.5 * (dWi + dWj) * rInv;
+      gWi[k] = dWi * rInv;
+      qMean[k] = 0.5 * (qi + qj);
+      wH[k] = sigma * std::abs(dfi);
     }
   }
   // ASPH: the same for the ellipsoidal kernels, whose pair needs two matrix-vector products,
-  // two square roots and two divisions before anything else (taylor_bar_3d with ASPH: see
-  // decks/README, "ASPH").
-  struct AnisoPairKernel {
-    Vec<Dim> gW, gWi; // the pair's mean gradient, i's own
-    double hbarOverR; // the mean of 1/eta over both metrics: h along the pair over r
-    double qMean;     // (eta_i + eta_j)/2
-    double wH;        // sigma |W'(eta_i)| (Owen 2010, Eq. 1)
-    bool coincident;  // in eta (underflow): the pair is skipped
+  // two square roots and two divisions before anything else; columns and no branches, as
+  // SPH's (taylor_bar_3d with ASPH: see decks/README, "ASPH").
+  struct AnisoPairKernels {
+    std::size_t stride = 0; // of the columns below
+    // The pair's mean gradient (Dim columns), then i's own (Dim more): gW(a, k) and gWi(a, k).
+    std::vector<double> g;
+    std::vector<double> hbarOverR;  // the mean of 1/eta over both metrics: h along the pair over r
+    std::vector<double> qMean;      // (eta_i + eta_j)/2
+    std::vector<double> wH;         // sigma |W'(eta_i)| (Owen 2010, Eq. 1)
+    std::vector<double> coincident; // 1 where coincident in eta (underflow): the pair is skipped
+    double gW(int a, std::size_t k) const { return g[static_cast<std::size_t>(a) * stride + k]; }
+    double gWi(int a, std::size_t k) const {
+      return g[static_cast<std::size_t>(Dim + a) * stride + k];
+    }
   };
   void anisoPairKernels(const Vec<Dim>& xi, std::size_t i, std::span<const std::uint32_t> row,
-                        std::vector<AnisoPairKernel>& out) const {
-    const auto x = s_[f_.x];
+                        AnisoPairKernels& out) const {
+    static_assert(sizeof(Vec<Dim>) == Dim * sizeof(double) &&
+                  sizeof(AnisoRow) % sizeof(double) == 0 &&
+                  offsetof(AnisoRow, normGrad) == Dim * Dim * sizeof(double));
+    // G (column-major), then sigma det H (and in 2D the padding of G's alignment).
+    constexpr std::size_t kStride = sizeof(AnisoRow) / sizeof(double);
+    const std::size_t n = row.size();
+    if (out.stride < n) {
+      out.stride = n;
+      out.g.resize(2 * Dim * n);
+      for (auto* c : {&out.hbarOverR, &out.qMean, &out.wH, &out.coincident}) c->resize(n);
+    }
+    const std::size_t m = out.stride;
+    const double* const x = s_[f_.x].data()->data();
+    const double* const rows = anisoRow_.data()->G.data();
+    const std::uint32_t* const js = row.data();
+    double* const g = out.g.data();
+    double* const hbarOverR = out.hbarOverR.data();
+    double* const qMean = out.qMean.data();
+    double* const wH = out.wH.data();
+    double* const coincident = out.coincident.data();
     const double sigma = K::sigma();
-    const AnisoRow& rowI = anisoRow_[i];
-    out.resize(row.size());
-    for (std::size_t k = 0; k < row.size(); ++k) {
-      const std::uint32_t j = row[k];
-      const Vec<Dim> xij = xi - x[j];
-      const AnisoRow& rowJ = anisoRow_[j];
+    std::array<double, Dim> at;
+    for (int d = 0; d < Dim; ++d) at[static_cast<std::size_t>(d)] = xi[d];
+    std::array<double, Dim * Dim> GI;
+    for (std::size_t e = 0; e < Dim * Dim; ++e) GI[e] = rows[kStride * i + e];
+    const double normGradI = rows[kStride * i + Dim * Dim];
+#pragma omp simd
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t j = js[k];
       // In the metric G = H^T H: eta^2 = x . G x and the gradient det(H) W'(eta) G x / eta,
       // so the pair needs two matrix-vector products, not four. (The divisions start from the
       // squares, in parallel with the square roots.)
-      const Vec<Dim> gi = rowI.G * xij, gj = rowJ.G * xij;
-      const double etaI2 = xij.dot(gi), etaJ2 = xij.dot(gj);
-      AnisoPairKernel& pk = out[k];
-      pk.coincident = !(etaI2 > 0.0 && etaJ2 > 0.0);
+      double etaI2 = 0.0, etaJ2 = 0.0;
+#pragma GCC unroll 3
+      for (std::size_t a = 0; a < Dim; ++a) {
+        double gi = 0.0, gj = 0.0;
+#pragma GCC unroll 3
+        for (std::size_t b = 0; b < Dim; ++b) {
+          const double xb = at[b] - x[Dim * j + b];
+          gi += GI[b * Dim + a] * xb;
+          gj += rows[kStride * j + b * Dim + a] * xb;
+        }
+        const double xa = at[a] - x[Dim * j + a];
+        etaI2 += xa * gi;
+        etaJ2 += xa * gj;
+        g[(Dim + a) * m + k] = gi; // G_i x_ij and G_j x_ij until scaled below
+        g[a * m + k] = gj;
+      }
+      coincident[k] = etaI2 > 0.0 && etaJ2 > 0.0 ? 0.0 : 1.0;
       const double etaI2Inv = 1.0 / etaI2, etaJ2Inv = 1.0 / etaJ2;
       const double etaI = std::sqrt(etaI2), etaJ = std::sqrt(etaJ2);
       const double etaIInv = etaI * etaI2Inv, etaJInv = etaJ * etaJ2Inv;
-      const double dfI = etaI < K::support ? K::df(etaI) : 0.0;
-      const double dfJ = etaJ < K::support ? K::df(etaJ) : 0.0;
-      pk.gWi = (rowI.normGrad * dfI * etaIInv) * gi;
-      pk.gW = 0.5 * (pk.gWi + (rowJ.normGrad * dfJ * etaJInv) * gj);
-      pk.hbarOverR = 0.5 * (etaIInv + etaJInv);
-      pk.qMean = 0.5 * (etaI + etaJ);
+      // (df is 0 outside the support.)
+      const double dfI = K::df(etaI), dfJ = K::df(etaJ);
+      const double cI = normGradI * dfI * etaIInv,
+                   cJ = rows[kStride * j + Dim * Dim] * dfJ * etaJInv;
+#pragma GCC unroll 3
+      for (std::size_t a = 0; a < Dim; ++a) {
+        const double gWi = cI * g[(Dim + a) * m + k];
+        g[a * m + k] = 0.5 * (gWi + cJ * g[a * m + k]);
+        g[(Dim + a) * m + k] = gWi;
+      }
+      hbarOverR[k] = 0.5 * (etaIInv + etaJInv);
+      qMean[k] = 0.5 * (etaI + etaJ);
       // W^H = 0 outside i's support, so a neighbor only j's support reaches adds nothing.
-      pk.wH = sigma * std::abs(dfI);
+      wH[k] = sigma * std::abs(dfI);
     }
   }
   ParticleStore& s_;

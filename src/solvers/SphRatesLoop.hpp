@@ -10,11 +10,9 @@ template <Stress Mode>
 void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl, std::size_t firstWallImage) {
   constexpr bool Solid = Mode != Stress::Pressure;
   constexpr bool Corrected = Mode == Stress::CorrectedCauchy;
-  // The kernel values of a row in a pass of their own (Sph::pairKernels): the solids' long pair
-  // loop gains (taylor_bar_3d +5%), the hydro loop, short enough to overlap its pairs itself,
-  // loses (sedov_3d -8%). ASPH's pairs always take theirs in a pass (Sph::anisoPairKernels:
-  // with ASPH taylor_bar_3d +3.5%, sedov_3d the same).
-  constexpr bool KernelPass = Solid && !Aniso;
+  // The kernel values of a row come from a pass of their own before its pairs: SPH's in vector
+  // registers (Sph::pairKernels: taylor_bar_3d +14%, sedov_3d +22% over the kernel evaluated
+  // pair by pair in this loop), ASPH's overlapping consecutive pairs (Sph::anisoPairKernels).
   using MatD = Tensor<Dim>;
   const auto x = s_[f_.x];
   const auto v = s_[f_.v];
@@ -140,9 +138,9 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl, std::size_
     const double gradNormI = sigma * ipow<Dim>(hiInv) * hiInv;
     thread_local std::vector<std::uint32_t> rowBuf; // each thread's own
     const auto row = nl.of(i, rowBuf);
-    [[maybe_unused]] thread_local std::vector<PairKernel> kernelRow; // each thread's own
-    if constexpr (KernelPass) pairKernels(xi, hiInv, gradNormI, row, kernelRow);
-    [[maybe_unused]] thread_local std::vector<AnisoPairKernel> anisoKernelRow; // each thread's
+    [[maybe_unused]] thread_local PairKernels kernelRow; // each thread's own
+    if constexpr (!Aniso) pairKernels(xi, hiInv, gradNormI, row, kernelRow);
+    [[maybe_unused]] thread_local AnisoPairKernels anisoKernelRow; // each thread's own
     if constexpr (Aniso) anisoPairKernels(xi, i, row, anisoKernelRow);
     const double rhoi = rho[i], ci = cs[i];
     const std::int32_t bodyi = body[i];
@@ -187,30 +185,17 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl, std::size_
       [[maybe_unused]] double hbarOverR = 0.0;
       [[maybe_unused]] double qMean; // the pair's mean normalised distance
       if constexpr (Aniso) {
-        const AnisoPairKernel& pk = anisoKernelRow[k];
-        if (pk.coincident) continue; // coincident in eta (underflow)
-        gradWi = pk.gWi;
-        gradW = pk.gW;
-        hbarOverR = pk.hbarOverR;
-        qMean = pk.qMean;
-        sumWHi += pk.wH;
+        const AnisoPairKernels& pk = anisoKernelRow;
+        if (pk.coincident[k] != 0.0) continue; // coincident in eta (underflow)
+        for (int d = 0; d < Dim; ++d) gradWi[d] = pk.gWi(d, k), gradW[d] = pk.gW(d, k);
+        hbarOverR = pk.hbarOverR[k];
+        qMean = pk.qMean[k];
+        sumWHi += pk.wH[k];
       } else {
-        if constexpr (KernelPass) {
-          const PairKernel& pk = kernelRow[k];
-          gradW = pk.gW * xij;
-          gradWi = pk.gWi * xij;
-          qMean = pk.qMean;
-          sumWHi += pk.wH;
-        } else {
-          const double r = std::sqrt(r2), rInv = 1.0 / r;
-          const double qi = r * hiInv, qj = r * rj.hInv;
-          const double dWi = qi < K::support ? gradNormI * K::df(qi) : 0.0;
-          const double dWj = qj < K::support ? rj.gradNorm * K::df(qj) : 0.0;
-          gradW = (0.5 * (dWi + dWj) * rInv) * xij;
-          gradWi = (dWi * rInv) * xij;
-          qMean = 0.5 * (qi + qj);
-          if (qi < K::support) sumWHi += KW::WH(qi);
-        }
+        gradW = kernelRow.gW[k] * xij;
+        gradWi = kernelRow.gWi[k] * xij;
+        qMean = kernelRow.qMean[k];
+        sumWHi += kernelRow.wH[k];
       }
       // The gradients i's and j's own quantities are contracted with (the same unless
       // corrected).
