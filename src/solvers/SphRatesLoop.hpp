@@ -10,9 +10,8 @@ template <Stress Mode>
 void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl, std::size_t firstWallImage) {
   constexpr bool Solid = Mode != Stress::Pressure;
   constexpr bool Corrected = Mode == Stress::CorrectedCauchy;
-  // The kernel values of a row come from a pass of their own before its pairs: SPH's in vector
-  // registers (Sph::pairKernels: taylor_bar_3d +14%, sedov_3d +22% over the kernel evaluated
-  // pair by pair in this loop), ASPH's overlapping consecutive pairs (Sph::anisoPairKernels).
+  // The kernel values of a row come from a pass of their own before its pairs, which runs in
+  // vector registers (Sph::pairKernels, Sph::anisoPairKernels; their gains: decks/README, "ASPH").
   using MatD = Tensor<Dim>;
   const auto x = s_[f_.x];
   const auto v = s_[f_.v];
