@@ -279,11 +279,16 @@ private:
     double balsara; // Balsara (1995) factor, 1 when the switch is off
   };
   std::vector<RowScratch> rowScratch_; // scratch of the force loop
-  // Symmetric, so stored as such (core/SymmetricTensor.hpp): 48 bytes a row each in 3D, not 72.
-  std::vector<SymTensor<Dim>> sOverRho_;         // scratch of the force loop (solids)
-  std::vector<SymTensor<Dim>> artificialStress_; // R of every row (solids, when enabled)
-  std::vector<std::uint8_t> tensile_;            // R != 0: the row is in tension
-  std::vector<SymTensor<Dim>> strainRate_;       // sym L of every row (reconstructed viscosity)
+  // Symmetric, so stored as such (core/SymmetricTensor.hpp), and in single precision: 24 bytes a
+  // row each in 3D, not 72. Each is a factor of pair terms that only a sum reads; i and j read the
+  // same rounded values, so the pair force stays antisymmetric (momentum and energy conserved as
+  // before), and rounding to 6e-8 of a row's own stress is far below the sums' discretisation
+  // error (decks/README, "Memory").
+  using RowTensor = SymTensor<Dim, float>;
+  std::vector<RowTensor> sOverRho_;         // scratch of the force loop (solids)
+  std::vector<RowTensor> artificialStress_; // R of every row (solids, when enabled)
+  std::vector<std::uint8_t> tensile_;       // R != 0: the row is in tension
+  std::vector<RowTensor> strainRate_;       // sym L of every row (reconstructed viscosity)
   std::vector<double> isochoric_;                // pair::isochoricGate of every row
   // Marks the failed rows (ghosts included); whether any row failed at all.
   bool markCracks() {

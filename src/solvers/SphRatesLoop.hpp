@@ -46,7 +46,7 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl, std::size_
     resizeWithHeadroom(sOverRho_, s_.size());
 #pragma omp parallel for schedule(static) if (threaded(s_.size()))
     for (std::size_t j = 0; j < s_.size(); ++j)
-      sOverRho_[j] = SymTensor<Dim>::symmetricPart(Sdev[j]) / (product ? rho[j] : rho[j] * rho[j]);
+      sOverRho_[j] = RowTensor::symmetricPart(Sdev[j]) / (product ? rho[j] : rho[j] * rho[j]);
     // The strain rates of the reconstruction, of every row before this loop overwrites L (the
     // owned rows must read the previous loop's L, as ghosts do: else the sums depend on the
     // row order, and so on the rank count).
@@ -56,7 +56,7 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl, std::size_
 #pragma omp parallel for schedule(static) if (threaded(s_.size()))
       for (std::size_t j = 0; j < s_.size(); ++j) {
         const MatD Lj = Lgrad[j].template topLeftCorner<Dim, Dim>();
-        strainRate_[j] = SymTensor<Dim>::symmetricPart(Lj);
+        strainRate_[j] = RowTensor::symmetricPart(Lj);
         // In rz the volume change includes the hoop rate D_tt = L(2,2): a mushroom's plastic
         // flow is isochoric in 3D, not in the r-z plane.
         isochoric_[j] = rz ? pair::isochoricGate<3>(0.5 * (Lgrad[j] + Lgrad[j].transpose()))
@@ -71,9 +71,9 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl, std::size_
 #pragma omp parallel for schedule(static) if (threaded(s_.size()))
       for (std::size_t j = 0; j < s_.size(); ++j) {
         artificialStress_[j] = solid_[static_cast<std::size_t>(mat[j])]
-                                   ? SymTensor<Dim>::symmetricPart(pair::artificialStress<Dim>(
+                                   ? RowTensor::symmetricPart(pair::artificialStress<Dim>(
                                          Sdev[j], p[j], rho[j], cfg_.artificial_stress.epsilon))
-                                   : SymTensor<Dim>::zero();
+                                   : RowTensor::zero();
         tensile_[j] = artificialStress_[j].nonzero();
       }
     }

@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
+#include <vector>
 
 using namespace spall;
 
@@ -56,4 +58,48 @@ TEST(SymTensor, StoresTheUpperTriangleRowByRow) {
   EXPECT_EQ(SymTensor<2>::index(1, 1), 2);
   const SymTensor<3> z = SymTensor<3>::zero();
   EXPECT_EQ(z.full(), Tensor<3>::Zero());
+}
+
+// The force loop's rows in single precision: half the bytes; each entry is the symmetric part's
+// rounded once to float, and products are taken in double from those entries, so that i and j of
+// a pair read the same values (what keeps the pair force antisymmetric). The rows are written in
+// one loop and read in another, as the force loop's: GCC 12 at -O3 -march=native may use the
+// unrounded double where a value is rounded and read back within one expression (seen here),
+// which a row read from memory cannot be.
+TEST(SymTensor, SinglePrecisionRowsRoundEachEntryOnceAndMultiplyInDouble) {
+  using RowTensor = SymTensor<3, float>;
+  static_assert(sizeof(RowTensor) == 6 * sizeof(float));
+  constexpr int kRows = 50;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  std::vector<Tensor<3>> sym(kRows);
+  std::vector<Vec<3>> g(kRows);
+  std::vector<RowTensor> rows(kRows);
+  for (int k = 0; k < kRows; ++k) {
+    Tensor<3> M;
+    for (int r = 0; r < 3; ++r) {
+      g[k][r] = u(rng);
+      for (int c = 0; c < 3; ++c) M(r, c) = u(rng);
+    }
+    sym[k] = 0.5 * (M + M.transpose());
+    rows[k] = RowTensor::symmetricPart(M);
+  }
+  for (int k = 0; k < kRows; ++k) {
+    const RowTensor& s = rows[k];
+    Tensor<3> rounded;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) {
+        rounded(r, c) = static_cast<double>(static_cast<float>(sym[k](r, c)));
+        EXPECT_EQ(s(r, c), rounded(r, c));
+        // Rounding to nearest: within half an ulp of float, 2^-24 relative.
+        EXPECT_LE(std::abs(s(r, c) - sym[k](r, c)), std::ldexp(std::abs(sym[k](r, c)), -24));
+      }
+    EXPECT_EQ(s.full(), rounded);
+    // The products of the rounded entries in double: as the double tensor's, to a few ulps.
+    const Vec<3> Mg = s * g[k], ref = rounded * g[k];
+    for (int r = 0; r < 3; ++r) EXPECT_NEAR(Mg[r], ref[r], 1e-13);
+    EXPECT_NEAR(s.quadraticForm(g[k]), g[k].dot(rounded * g[k]), 1e-12);
+    EXPECT_TRUE(s.nonzero());
+  }
+  EXPECT_FALSE(RowTensor::zero().nonzero());
 }
