@@ -289,7 +289,7 @@ private:
   std::vector<RowTensor> artificialStress_; // R of every row (solids, when enabled)
   std::vector<std::uint8_t> tensile_;       // R != 0: the row is in tension
   std::vector<RowTensor> strainRate_;       // sym L of every row (reconstructed viscosity)
-  std::vector<double> isochoric_;                // pair::isochoricGate of every row
+  std::vector<double> isochoric_;           // pair::isochoricGate of every row
   // Marks the failed rows (ghosts included); whether any row failed at all.
   bool markCracks() {
     if (failedNoTension_.empty() || !f_.hasDamage()) return false;

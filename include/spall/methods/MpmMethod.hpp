@@ -46,6 +46,8 @@ private:
 
   std::pair<double, std::size_t> localTimeStep() const override;
   void exchangeHalo() override;
+  double haloReachNeeded(bool* changed = nullptr) const; // collective
+  void haloForStep();
   void makeGrid();
   void placeOrigin();
   solvers::MpmParticles<Dim> particles();
@@ -59,6 +61,11 @@ private:
   bool originPlaced_ = false;
   double travel_ = 0.0;     // a bound on any point's travel since the last migration (checkpointed)
   bool rebalanced_ = false; // the last step ended in a rebalance
+  // The ghosts kept across steps (haloForStep): the reach they were chosen with, a bound on any
+  // point's travel since, and the store's layout then (a migration, an insertion or an erosion
+  // changes it).
+  double haloReach_ = 0.0, haloTravel_ = 0.0;
+  std::uint64_t haloLayout_ = ~std::uint64_t{0};
   std::unique_ptr<solvers::MpmGrid<Dim>> grid_;
   std::vector<std::size_t> haloFields_, velocityField_;
   // Loads and supports: whether the step has any (damping, a pressure boundary, fixed bodies),
