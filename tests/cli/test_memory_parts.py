@@ -56,9 +56,11 @@ with tempfile.TemporaryDirectory(prefix="spall_memory_parts_") as tmp:
     check("lists within the skin's share", parts["neighbor_lists"] <= 4.8 * n,
           f"{parts['neighbor_lists']:.0f} > {4.8 * n:.0f}")
     # The solver's per-row scratch (3D solid with the artificial stress and the reconstructed
-    # viscosity): 48 B of factors, three symmetric tensors of 48 B and a gate, 200 B a row, rows
-    # being the owned particles and their wall images, and an eighth of growth: measured 248.
-    check("solver scratch", 200.0 <= parts["solver_scratch"] <= 300.0, f"{parts['solver_scratch']:.0f}")
+    # viscosity): 48 B of factors, three symmetric tensors in single precision (24 B each), a gate
+    # and a flag, 129 B a row, rows being the owned particles and their wall images, and an
+    # eighth of growth, plus the search's reach (8 B an owned particle): measured 167 (248 with
+    # the tensors in double, which the upper bound fails).
+    check("solver scratch", 130.0 <= parts["solver_scratch"] <= 200.0, f"{parts['solver_scratch']:.0f}")
     # The rescue copy is the checkpointed fields of the owned rows: less than all the fields of
     # all rows (ghosts and headroom included), and the checkpoint file's bytes packed
     # (core/XorDelta.hpp): measured 218 B against the file's 325 (0.67). Unpacked (1.0) or
