@@ -282,8 +282,9 @@ private:
   // Symmetric, so stored as such (core/SymmetricTensor.hpp), and in single precision: 24 bytes a
   // row each in 3D, not 72. Each is a factor of pair terms that only a sum reads; i and j read the
   // same rounded values, so the pair force stays antisymmetric (momentum and energy conserved as
-  // before), and rounding to 6e-8 of a row's own stress is far below the sums' discretisation
-  // error (decks/README, "Memory").
+  // before), and rounding to ~1e-7 of a row's own stress (S/rho^2 is rounded twice: S's
+  // symmetric part, then the quotient) is far below the sums' discretisation error (measured:
+  // decks/README, where summary.json's memory_parts are described).
   using RowTensor = SymTensor<Dim, float>;
   std::vector<RowTensor> sOverRho_;         // scratch of the force loop (solids)
   std::vector<RowTensor> artificialStress_; // R of every row (solids, when enabled)
