@@ -351,7 +351,8 @@ template <int Dim> void MpmMethod<Dim>::exchangeHalo() {
 // chosen (both may have moved): kept while that is within the reach they were chosen with, and
 // the owned rows are the same. Extra ghosts change no sum: every node sums the points that touch
 // it, in id order, whichever rank holds them (as on any rank count). Choosing them every step
-// (the domains' boxes, the plan, a collective) was 6% of a 2-rank Taylor bar's step.
+// (the domains' boxes, the plan, a collective) cost 3% of a 2-rank Taylor bar's step
+// (decks/README, "The material point method").
 template <int Dim> void MpmMethod<Dim>::haloForStep() {
   bool changed = true;
   const double need = haloReachNeeded(&changed);
