@@ -170,6 +170,9 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl, std::size_
     // hoop) almost everywhere, so over a Taylor bar this saves 1% (decks/README, the cost).
     [[maybe_unused]] const bool tensileI = Solid && artificialStress && tensile_[i];
     if constexpr (Corrected) Bi = Bcorr[i].template topLeftCorner<Dim, Dim>();
+    [[maybe_unused]] ReconstructionRow reconRow;
+    if constexpr (Solid)
+      if (reconstruct) reconRow = reconstructionRow(i);
 
     for (std::size_t k = 0; k < row.size(); ++k) {
       const std::uint32_t j = row[k];
@@ -209,7 +212,7 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl, std::size_
       double vr = j < firstWallImage ? vij.dot(xij) : 0.0;
       double Pij = 0.0;
       if constexpr (Solid)
-        if (reconstruct && vr < 0.0) vr = reconstructedApproach(vr, xij, i, j, qMean);
+        if (reconstruct && vr < 0.0) vr = reconstructedApproach(vr, xij, reconRow, j, qMean);
       if (vr < 0.0) {
         // Monaghan & Gingold (1983) viscosity (Lam et al. 2001, Eqs. 22-24).
         const double hbar = Aniso ? hbarOverR * std::sqrt(r2) : 0.5 * (hi + h[j]);
