@@ -140,6 +140,7 @@ public:
       ratesLoop<Stress::CorrectedCauchy>(nl, firstWallImage);
     else
       ratesLoop<Stress::Cauchy>(nl, firstWallImage);
+    if constexpr (Aniso) cutVoronoiCells(nl);
   }
 
   // Owen (2010) Eqs. 1-4 (solvers/IdealH.hpp): n_h from the last loop's Psi_0, then h, or H with
@@ -227,6 +228,8 @@ private:
   // instantiations.
   template <Stress Mode>
   void ratesLoop(const neighbors::NeighborList& nl, std::size_t firstWallImage);
+  // The loop itself, a term a function (SphRatesLoop.hpp).
+  template <Stress Mode> class RatesLoop;
 
   // ---- ASPH -------------------------------------------------------------------------------
   struct AnisoRow {
@@ -242,6 +245,10 @@ private:
     for (std::size_t j = 0; j < s_.size(); ++j)
       anisoRow_[j] = {Hs[j].transpose() * Hs[j], K::sigma() * Hs[j].determinant()};
   }
+  // ASPH: the Voronoi cells of the owned rows, the target shapes of their next H, a pass after
+  // the force loop (SphRatesLoop.hpp).
+  void cutVoronoiCells(const neighbors::NeighborList& nl);
+  void cutVoronoiCell(std::size_t i, std::span<const std::uint32_t> row);
   // grad_x W(|H_k x|) at x = x_ij with row k's tensor: det(H) W'(eta) H^T H x / eta.
   Vec<Dim> anisoGradient(std::size_t k, const Vec<Dim>& xij) const {
     const AnisoRow& row = anisoRow_[k];

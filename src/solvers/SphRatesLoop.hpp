@@ -1,431 +1,629 @@
 #pragma once
 // SPH's and ASPH's force loop: the rates of every owned particle from its neighbors (the
-// declaration's comment in Sph.hpp says what it computes and why).
+// declaration's comment in Sph.hpp says what it computes and why). It reads as the list of the
+// terms it adds (RatesLoop::visitPair): a row opens with its own values, each pair adds its
+// named terms, and the row closes with the rz hoop closure and its writes. The terms' physics is
+// in solvers/SphPairTerms.hpp and solvers/Axisymmetric.hpp; each term here is what a row sums.
+// (Every term is inlined into the one pair loop: the loop is register-bound, so the terms must
+// not become calls. Each keeps its arithmetic in the order it always had, so the sums are the
+// same bits.)
 #include "Sph.hpp"
 
 namespace spall::solvers::sph {
 
-template <int Dim, class K, bool Aniso>
-template <Stress Mode>
-void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl, std::size_t firstWallImage) {
-  constexpr bool Solid = Mode != Stress::Pressure;
-  constexpr bool Corrected = Mode == Stress::CorrectedCauchy;
-  // The kernel values of a row come from a pass of their own before its pairs, which runs in
-  // vector registers (Sph::pairKernels, Sph::anisoPairKernels; their gains: decks/README, "ASPH").
+template <int Dim, class K, bool Aniso> template <Stress Mode> class Sph<Dim, K, Aniso>::RatesLoop {
+  static constexpr bool Solid = Mode != Stress::Pressure;
+  static constexpr bool Corrected = Mode == Stress::CorrectedCauchy;
   using MatD = Tensor<Dim>;
-  const auto x = s_[f_.x];
-  const auto v = s_[f_.v];
-  const auto h = s_[f_.h];
-  const auto m = planarMass();
-  const auto rho = s_[f_.rho];
-  const auto p = s_[f_.p];
-  const auto cs = s_[f_.cs];
-  const auto acc = s_[f_.a];
-  const auto dedt = s_[f_.dedt];
-  const auto drhodt = s_[f_.drhodt];
-  const auto sumWH = s_[f_.sumWH];
-  const auto muMax = s_[f_.muMax];
-  const bool balsara = cfg_.artificial_viscosity.balsara;
-  const bool product = cfg_.stress_form == StressForm::RhoProduct;
-  [[maybe_unused]] const bool rz = cfg_.geometry == Geometry::RZ;
-  const auto divv = balsara ? s_[f_.divv] : std::span<double>{};
-  const auto curlv = balsara ? s_[f_.curlv] : std::span<double>{};
-  if (balsara)
-    resizeWithHeadroom(divNew_, s_.localCount()), resizeWithHeadroom(curlNew_, s_.localCount());
-  const auto Sdev = Solid ? s_[f_.S] : std::span<Tensor<3>>{};
-  const auto Lgrad = Solid ? s_[f_.L] : std::span<Tensor<3>>{};
-  // S_j / rho_j^2 (or S_j / rho_j for the product form) of every row, ghosts included, once:
-  // the pair loop then only adds and multiplies.
-  [[maybe_unused]] const bool artificialStress = cfg_.artificial_stress.enabled;
-  [[maybe_unused]] const bool reconstruct = Solid && cfg_.artificial_viscosity.reconstruct;
-  const auto Bcorr = Corrected ? s_[f_.B] : std::span<Tensor<3>>{};
-  [[maybe_unused]] const int nAS = cfg_.artificial_stress.exponent;
-  // f_ij = W(r_ij)/W(dp) with dp = h/n_h, the initial spacing in units of h.
-  [[maybe_unused]] const double invWdp = 1.0 / K::f(1.0 / cfg_.nodes_per_h);
-  if constexpr (Solid) {
-    resizeWithHeadroom(sOverRho_, s_.size());
-#pragma omp parallel for schedule(static) if (threaded(s_.size()))
-    for (std::size_t j = 0; j < s_.size(); ++j)
-      sOverRho_[j] = RowTensor::symmetricPart(Sdev[j]) / (product ? rho[j] : rho[j] * rho[j]);
-    // The strain rates of the reconstruction, of every row before this loop overwrites L (the
-    // owned rows must read the previous loop's L, as ghosts do: else the sums depend on the
-    // row order, and so on the rank count).
-    if (reconstruct) {
-      resizeWithHeadroom(strainRate_, s_.size());
-      resizeWithHeadroom(isochoric_, s_.size());
-#pragma omp parallel for schedule(static) if (threaded(s_.size()))
-      for (std::size_t j = 0; j < s_.size(); ++j) {
-        const MatD Lj = Lgrad[j].template topLeftCorner<Dim, Dim>();
-        strainRate_[j] = RowTensor::symmetricPart(Lj);
-        // In rz the volume change includes the hoop rate D_tt = L(2,2): a mushroom's plastic
-        // flow is isochoric in 3D, not in the r-z plane.
-        isochoric_[j] = rz ? pair::isochoricGate<3>(0.5 * (Lgrad[j] + Lgrad[j].transpose()))
-                           : pair::isochoricGate<Dim>(strainRate_[j].full());
-      }
-    }
-    if (artificialStress) {
-      resizeWithHeadroom(artificialStress_, s_.size());
-      resizeWithHeadroom(tensile_, s_.size());
-      // Only solids: a fluid in a multi-material deck keeps the plain pressure term.
-      const auto mat = s_[f_.material];
-#pragma omp parallel for schedule(static) if (threaded(s_.size()))
-      for (std::size_t j = 0; j < s_.size(); ++j) {
-        artificialStress_[j] = solid_[static_cast<std::size_t>(mat[j])]
-                                   ? RowTensor::symmetricPart(pair::artificialStress<Dim>(
-                                         Sdev[j], p[j], rho[j], cfg_.artificial_stress.epsilon))
-                                   : RowTensor::zero();
-        tensile_[j] = artificialStress_[j].nonzero();
-      }
-    }
-  }
-  const double alpha = cfg_.artificial_viscosity.alpha, beta = cfg_.artificial_viscosity.beta;
-  const double sigma = K::sigma();
-  const std::size_t n = s_.localCount();
-  const bool frictionless = cfg_.contact != Contact::Welded;
-  const auto body = frictionless ? s_[f_.contactGroup] : s_[f_.body];
-  // A confining pressure (methods/modules/ConfiningPressure.hpp): each row's surface sum G_i,
-  // the force per unit mass a unit shift of the stress of i and all its neighbors exerts on i.
-  const bool surfaces = f_.surfaceArea.valid();
-  const auto P = surfaces ? s_[f_.confiningPressure] : std::span<double>{};
-  const auto area = surfaces ? s_[f_.surfaceArea] : std::span<Vec<Dim>>{};
-  const auto mass = s_[f_.m];
-  // What the pair loop needs of a neighbor j that depends on j alone, once per row and packed
-  // together: the pair loop is left with one division (1/r) and one square root.
-  if constexpr (Aniso) prepareAnisoRows();
-  [[maybe_unused]] const auto cellMoment = Aniso ? s_[f_.cellMoment] : std::span<Tensor<Dim>>{};
-  [[maybe_unused]] const auto cellAge = Aniso ? s_[f_.cellAge] : std::span<std::int32_t>{};
-  [[maybe_unused]] const auto id = s_[f_.id];
-  [[maybe_unused]] const std::int32_t shapeInterval = cfg_.shape_interval;
-  // The pair term's form and the Balsara switch enter as per-row factors, so that the pair
-  // loop has no branch on them: q = p/rho^2 and s = 1 (rho^2 form) or q = p and s = 1/rho
-  // (product form), the pressure term being (q_i + q_j) s_i s_j; f = the Balsara factor, or 1.
-  // (A multiplication by exactly 1 changes no bit: the rho^2 form without Balsara computes what
-  // it computed when each was an instantiation of its own.)
-  resizeWithHeadroom(rowScratch_, s_.size());
-#pragma omp parallel for schedule(static) if (threaded(s_.size()))
-  for (std::size_t j = 0; j < s_.size(); ++j) {
-    const double hjInv = 1.0 / h[j];
-    rowScratch_[j] = {hjInv,
-                      sigma * ipow<Dim>(hjInv) * hjInv,
-                      m[j] / rho[j],
-                      product ? p[j] : p[j] / (rho[j] * rho[j]),
-                      product ? 1.0 / rho[j] : 1.0,
-                      balsara ? pair::balsaraFactor(divv[j], curlv[j], cs[j], h[j]) : 1.0};
+  using RowKernels = std::conditional_t<Aniso, AnisoPairKernels, PairKernels>;
+
+public:
+  RatesLoop(Sph& sph, const neighbors::NeighborList& nl, std::size_t firstWallImage)
+      : o_(sph), nl_(nl), firstWallImage_(firstWallImage), x_(sph.s_[sph.f_.x]),
+        v_(sph.s_[sph.f_.v]), h_(sph.s_[sph.f_.h]), m_(sph.planarMass()), rho_(sph.s_[sph.f_.rho]),
+        p_(sph.s_[sph.f_.p]), cs_(sph.s_[sph.f_.cs]), mass_(sph.s_[sph.f_.m]),
+        n_(sph.s_.localCount()) {
+    prepareRows();
   }
 
-  // Damaged pairs (solvers/CrackedPairs.hpp): a pair with a particle that failed (damage 1) and
-  // can carry no tension, or with one between them, transmits compression only, as across a
-  // contact: an intact neighbor cannot pull on it, and it pulls on nothing (the crack is open).
-  // Without it, the intact side's tension would still reach across the failed layer through
-  // the pair's other half.
-  const bool damagedPairs = Solid && markCracks();
-  if (damagedPairs) cracks_.collect(nl, n);
-  [[maybe_unused]] const auto interacts = [&](std::size_t a, std::size_t b) {
-    if constexpr (Aniso)
-      return reaches<Dim>(x[a] - x[b], anisoRow_[a].G, anisoRow_[b].G, K::support);
-    else
-      return reaches<Dim>(x[a] - x[b], std::max(h[a], h[b]), K::support);
+  void run() {
+    // Rows in parallel (core/Threads.hpp): each writes only its own rates, from its neighbors'
+    // inputs in its list's order; chunks of rows handed out as threads free up (rows differ in
+    // neighbor count and in how many pairs approach).
+#pragma omp parallel for schedule(dynamic, 64) if (threaded(n_))
+    for (std::size_t i = 0; i < n_; ++i) {
+      thread_local std::vector<std::uint32_t> rowBuf; // each thread's own
+      thread_local RowKernels kernels;                // each thread's own
+      const auto row = nl_.of(i, rowBuf);
+      Row r;
+      openRow(r, i);
+      // The reconstruction's own values apart from the row: a call takes their address, and a
+      // struct with a member a call sees stays in memory whole (in the row, its sums left the
+      // registers: the loop 10-15% slower).
+      ReconstructionRow recon;
+      if constexpr (Solid)
+        if (reconstruct_) recon = o_.reconstructionRow(i);
+      kernelPass(r, row, kernels);
+      for (std::size_t k = 0; k < row.size(); ++k) visitPair(r, recon, kernels, k, row[k]);
+      closeRow(r);
+    }
+    if (balsara_) {
+      std::copy_n(o_.divNew_.begin(), n_, o_.s_[o_.f_.divv].begin());
+      std::copy_n(o_.curlNew_.begin(), n_, o_.s_[o_.f_.curlv].begin());
+    }
+  }
+
+private:
+  // What the row's particle i brings (read once) and what its pairs sum.
+  struct Row {
+    std::size_t i;
+    Vec<Dim> xi, vi;
+    double hi, rhoi, ci;
+    double qI, sI, fi; // the pressure term's factors and the Balsara factor (RowScratch)
+    double uI;         // q of a unit pressure (the confining pressure's surface sums)
+    std::int32_t bodyi;
+    bool tensileI; // R_i != 0: i is in tension (artificial stress)
+    // Solids: S_i / rho_i^2 (or S_i / rho_i for the product form) in the Dim x Dim block, R_i,
+    // B_i. The row's own tensors as full ones: kept as SymTensor here, taylor_bar_3d's step took
+    // 25% longer.
+    MatD SiOwn, Ri, Bi;
+    // The sums: acceleration, the confining pressure's G_i, de/dt, -div v, Psi_0's sum, the
+    // largest mu_ij, Balsara's div v and curl v, the velocity gradient L_i.
+    Vec<Dim> ai, Gi;
+    double dei, drhoi, sumWHi, mui, divi;
+    Eigen::Matrix<double, Dim == 3 ? 3 : 1, 1> curli;
+    MatD Li;
+    // rz: -sum_j V_j x_ij,r g_ij,r with the velocity gradient's and the divergence's kernel
+    // gradients, the normalisation the hoop rate is given (solvers/Axisymmetric.hpp); k_r, its
+    // share from pairs across a contact or crack (where i's own stress enters as -max(p_i, 0) I
+    // only), and the artificial stress's share; the hoop strain rate D_tt.
+    double Mrr, MrrVolume, kr, krAcross, krAS, Dtt;
+  };
+  // One pair (i, j) of the row.
+  struct Pair {
+    std::uint32_t j;
+    Vec<Dim> xij, vij;
+    double r2;
+    // The pair's gradient (the mean of both supports'), i's own one (continuity), and the
+    // gradients i's and j's own quantities are contracted with (the same unless corrected).
+    Vec<Dim> gradW, gradWi, gI, gJ;
+    double vgrad;     // v_ij . grad W
+    double hbarOverR; // ASPH: the mean smoothing scale along the pair over r (its viscosity)
+    double qMean;     // the pair's mean normalised distance
+    double Pij;       // the viscosity Pi_ij
+    bool cracked;     // a damaged pair (solvers/CrackedPairs.hpp)
+    bool across;      // across a contact or a crack: compression only
+    double qOwn, qOther, sij; // the pressure term's factors of the pair
+    double mj, wVol, w;       // m_j and V_j, weighted by Rbar/R_i in rz; w that weight
   };
 
-  // Rows in parallel (core/Threads.hpp): each writes only its own rates, from its neighbors'
-  // inputs in its list's order; chunks of rows handed out as threads free up (rows differ in
-  // neighbor count and in how many pairs approach).
-#pragma omp parallel for schedule(dynamic, 64) if (threaded(n))
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec<Dim> xi = x[i], vi = v[i];
-    const double hi = h[i], hiInv = 1.0 / hi;
-    const double gradNormI = sigma * ipow<Dim>(hiInv) * hiInv;
-    thread_local std::vector<std::uint32_t> rowBuf; // each thread's own
-    const auto row = nl.of(i, rowBuf);
-    [[maybe_unused]] thread_local PairKernels kernelRow; // each thread's own
-    if constexpr (!Aniso) pairKernels(xi, hiInv, gradNormI, row, kernelRow);
-    [[maybe_unused]] thread_local AnisoPairKernels anisoKernelRow; // each thread's own
-    if constexpr (Aniso) anisoPairKernels(xi, i, row, anisoKernelRow);
-    const double rhoi = rho[i], ci = cs[i];
-    const std::int32_t bodyi = body[i];
-    const RowScratch& ri = rowScratch_[i];
-    const double qI = ri.q, sI = ri.s, fi = ri.balsara;
-    Vec<Dim> ai = Vec<Dim>::Zero(), Gi = Vec<Dim>::Zero();
-    const double uI = product ? 1.0 : 1.0 / (rhoi * rhoi); // q of a unit pressure
-    double dei = 0.0, drhoi = 0.0, sumWHi = 0.0, mui = 0.0, divi = 0.0;
-    [[maybe_unused]] Eigen::Matrix<double, Dim == 3 ? 3 : 1, 1> curli;
-    curli.setZero();
-    // Solids: S_i / rho_i^2 (or S_i / rho_i for the product form) in the Dim x Dim block, and the
-    // velocity gradient L_i = -sum_j (m_j/rho_j) v_ij (x) grad_i W_ij. The row's own tensors
-    // as full ones: kept as SymTensor here, taylor_bar_3d's step took 25% longer.
-    [[maybe_unused]] MatD SiOwn, Ri, Li, Bi;
-    // rz: -sum_j V_j x_ij,r g_ij,r with the velocity gradient's and the divergence's kernel
-    // gradients, the normalisation the hoop rate is given (solvers/Axisymmetric.hpp).
-    // k_r's share from pairs across a contact or crack (krAcross), where i's own stress enters
-    // the pair term as -max(p_i, 0) I only.
-    [[maybe_unused]] double Mrr = 1.0, MrrVolume = 0.0, kr = 0.0, krAcross = 0.0, krAS = 0.0;
-    if constexpr (Solid) {
-      SiOwn = sOverRho_[i].full(); // S_i/rho_i^2, or S_i/rho_i for the product form
-      Li.setZero();
-      Mrr = 0.0;
-      Ri = artificialStress ? artificialStress_[i].full() : MatD::Zero();
-    }
-    // A pair adds artificial stress only if one of the two is in tension (R != 0). A body
-    // compressed in every direction skips it; a flowing bar has a tensile principal stress (the
-    // hoop) almost everywhere, so over a Taylor bar this saves 1% (decks/README, the cost).
-    [[maybe_unused]] const bool tensileI = Solid && artificialStress && tensile_[i];
-    if constexpr (Corrected) Bi = Bcorr[i].template topLeftCorner<Dim, Dim>();
-    [[maybe_unused]] ReconstructionRow reconRow;
+  // ---- the pair: its terms in the order they are added ------------------------------------
+  [[gnu::always_inline]] void visitPair(Row& r, const ReconstructionRow& recon,
+                                        const RowKernels& kernels, std::size_t k,
+                                        std::uint32_t j) const {
+    Pair p;
+    if (!geometry(r, kernels, k, j, p)) return;
+    viscosity(r, recon, p);
+    contactRule(r, p);
+    axisymmetricWeight(r, p);
+    pressureForce(r, p);
+    surfaceSums(r, p);
     if constexpr (Solid)
-      if (reconstruct) reconRow = reconstructionRow(i);
+      if (!p.across) {
+        deviatoricStress(r, p);
+        artificialStress(r, p);
+      }
+    energyShare(r, p);
+    continuity(r, p);
+    balsaraSums(r, p);
+  }
 
-    for (std::size_t k = 0; k < row.size(); ++k) {
-      const std::uint32_t j = row[k];
-      const Vec<Dim> xij = xi - x[j];
-      const double r2 = xij.squaredNorm();
-      if (r2 == 0.0) continue; // coincident particles exert no force on each other
-      const RowScratch& rj = rowScratch_[j];
-      // The pair's gradient (average of both supports'), i's own one (continuity), and the
-      // mean smoothing scale along the pair (viscosity): h, or r/eta for ASPH, where r itself
-      // is needed only then (the kernels work in eta).
-      Vec<Dim> gradW, gradWi;
-      [[maybe_unused]] double hbarOverR = 0.0;
-      [[maybe_unused]] double qMean; // the pair's mean normalised distance
-      if constexpr (Aniso) {
-        const AnisoPairKernels& pk = anisoKernelRow;
-        if (pk.coincident[k] != 0.0) continue; // coincident in eta (underflow)
-        for (int d = 0; d < Dim; ++d) gradWi[d] = pk.gWi(d, k), gradW[d] = pk.gW(d, k);
-        hbarOverR = pk.hbarOverR[k];
-        qMean = pk.qMean[k];
-        sumWHi += pk.wH[k];
-      } else {
-        gradW = kernelRow.gW[k] * xij;
-        gradWi = kernelRow.gWi[k] * xij;
-        qMean = kernelRow.qMean[k];
-        sumWHi += kernelRow.wH[k];
-      }
-      // The gradients i's and j's own quantities are contracted with (the same unless
-      // corrected).
-      Vec<Dim> gI = gradW, gJ = gradW;
-      if constexpr (Corrected) {
-        gI = Bi * gradW;
-        gJ = Bcorr[j].template topLeftCorner<Dim, Dim>() * gradW;
-      }
+  // The pair's kernel gradients from the row's kernel pass. False for a pair that exerts
+  // nothing: coincident particles (in x, or in eta through underflow).
+  [[gnu::always_inline]] bool geometry(Row& r, const RowKernels& kernels, std::size_t k,
+                                       std::uint32_t j, Pair& p) const {
+    p.j = j;
+    p.xij = r.xi - x_[j];
+    p.r2 = p.xij.squaredNorm();
+    if (p.r2 == 0.0) return false;
+    if constexpr (Aniso) {
+      if (kernels.coincident[k] != 0.0) return false;
+      for (int d = 0; d < Dim; ++d) p.gradWi[d] = kernels.gWi(d, k), p.gradW[d] = kernels.gW(d, k);
+      p.hbarOverR = kernels.hbarOverR[k];
+    } else {
+      p.gradW = kernels.gW[k] * p.xij;
+      p.gradWi = kernels.gWi[k] * p.xij;
+    }
+    p.qMean = kernels.qMean[k];
+    r.sumWHi += kernels.wH[k];
+    p.gI = p.gradW;
+    p.gJ = p.gradW;
+    if constexpr (Corrected) {
+      p.gI = r.Bi * p.gradW;
+      p.gJ = Bcorr_[j].template topLeftCorner<Dim, Dim>() * p.gradW;
+    }
+    p.vij = r.vi - v_[j];
+    p.vgrad = p.vij.dot(p.gradW);
+    return true;
+  }
 
-      const Vec<Dim> vij = vi - v[j];
-      // A rigid wall's image exerts no viscosity (Boundaries::holdAcceleration holds the wall).
-      double vr = j < firstWallImage ? vij.dot(xij) : 0.0;
-      double Pij = 0.0;
-      if constexpr (Solid)
-        if (reconstruct && vr < 0.0) vr = reconstructedApproach(vr, xij, reconRow, j, qMean);
-      if (vr < 0.0) {
-        // Monaghan & Gingold (1983) viscosity (Lam et al. 2001, Eqs. 22-24).
-        const double hbar = Aniso ? hbarOverR * std::sqrt(r2) : 0.5 * (hi + h[j]);
-        double mu;
-        Pij = pair::viscosity(vr, r2, hbar, 0.5 * (ci + cs[j]), 0.5 * (rhoi + rho[j]), alpha, beta,
-                              mu);
-        Pij *= 0.5 * (fi + rj.balsara); // exactly 1 without the switch
-        mui = std::max(mui, -mu);
+  // Monaghan & Gingold (1983) viscosity (Lam et al. 2001, Eqs. 22-24) of an approaching pair,
+  // from the approach reconstructed to the pair's midpoint where asked (Frontiere, Raskin &
+  // Owen 2017) and scaled by the pair's mean Balsara factor (exactly 1 without the switch). A
+  // rigid wall's image exerts none (Boundaries::holdAcceleration holds the wall).
+  [[gnu::always_inline]] void viscosity(Row& r, const ReconstructionRow& recon, Pair& p) const {
+    const std::uint32_t j = p.j;
+    double vr = j < firstWallImage_ ? p.vij.dot(p.xij) : 0.0;
+    p.Pij = 0.0;
+    if constexpr (Solid)
+      if (reconstruct_ && vr < 0.0) {
+        const Vec<Dim> xij = p.xij; // (a copy: the call takes its address, not the pair's)
+        vr = o_.reconstructedApproach(vr, xij, recon, j, p.qMean);
       }
-      const double rhoj = rho[j];
-      // Frictionless contact between bodies (contact groups): across a group boundary only
-      // compression is transmitted (no tension, no shear), so bodies can slide and separate.
-      const bool cracked =
-          damagedPairs && cracks_.cracked(i, j, std::span<const Vec<Dim>>(x), interacts);
-      const bool across = (frictionless && body[j] != bodyi) || cracked;
-      double qOwn = qI, qOther = rj.q;
-      if (across) {
-        const double pOwn = std::max(p[i], 0.0), pOther = std::max(p[j], 0.0);
-        qOwn = product ? pOwn : pOwn / (rhoi * rhoi);
-        qOther = product ? pOther : pOther / (rhoj * rhoj);
+    if (vr < 0.0) {
+      const double hbar = Aniso ? p.hbarOverR * std::sqrt(p.r2) : 0.5 * (r.hi + h_[j]);
+      double mu;
+      p.Pij = pair::viscosity(vr, p.r2, hbar, 0.5 * (r.ci + cs_[j]), 0.5 * (r.rhoi + rho_[j]),
+                              alpha_, beta_, mu);
+      p.Pij *= 0.5 * (r.fi + scratch_[j].balsara);
+      r.mui = std::max(r.mui, -mu);
+    }
+  }
+
+  // Frictionless contact between bodies (contact groups) and damaged pairs: across a group
+  // boundary or a crack only compression is transmitted (no tension, no shear), so bodies can
+  // slide and separate and an open crack pulls on nothing. Each side's pressure term then takes
+  // max(p, 0); the deviatoric and artificial stress are left out (visitPair).
+  [[gnu::always_inline]] void contactRule(const Row& r, Pair& p) const {
+    const std::uint32_t j = p.j;
+    p.cracked = false; // (only solids crack: a constant the hydro loop folds away)
+    if constexpr (Solid)
+      p.cracked = damagedPairs_ && o_.cracks_.cracked(r.i, j, std::span<const Vec<Dim>>(x_),
+                                                      [this](std::size_t a, std::size_t b) {
+                                                        return interacts(a, b);
+                                                      });
+    p.across = (frictionless_ && body_[j] != r.bodyi) || p.cracked;
+    p.qOwn = r.qI, p.qOther = scratch_[j].q;
+    if (p.across) {
+      const double rhoj = rho_[j];
+      const double pOwn = std::max(p_[r.i], 0.0), pOther = std::max(p_[j], 0.0);
+      p.qOwn = product_ ? pOwn : pOwn / (r.rhoi * r.rhoi);
+      p.qOther = product_ ? pOther : pOther / (rhoj * rhoj);
+    }
+    p.sij = r.sI * scratch_[j].s; // 1, or 1/(rho_i rho_j)
+  }
+
+  // rz: the pair's momentum and energy terms weigh Rbar/R_i (solvers/Axisymmetric.hpp); k_r
+  // sums the part the weight adds, for the hoop force (closeRow).
+  [[gnu::always_inline]] void axisymmetricWeight(Row& r, Pair& p) const {
+    const std::uint32_t j = p.j;
+    p.mj = m_[j], p.wVol = scratch_[j].vol, p.w = 1.0;
+    if constexpr (Dim == 2)
+      if (rz_) {
+        p.w = rz::pairWeight(ring_[r.i], ring_[j]);
+        const double k = p.mj * (p.w - 1.0) * scratch_[j].s * p.gI[0];
+        r.kr += k;
+        if (p.across) r.krAcross += k;
+        p.mj *= p.w;
+        p.wVol *= p.w;
       }
-      const double sij = sI * rj.s; // 1, or 1/(rho_i rho_j)
-      // rz: the pair's momentum and energy terms weigh Rbar/R_i (solvers/Axisymmetric.hpp);
-      // k_r sums the part the weight adds, for the hoop force.
-      double mj = m[j], wVol = rj.vol;
-      [[maybe_unused]] double w = 1.0;
-      if constexpr (Dim == 2)
-        if (rz) {
-          w = rz::pairWeight(ringR_[i], ringR_[j]);
-          const double k = mj * (w - 1.0) * rj.s * gI[0];
-          kr += k;
-          if (across) krAcross += k;
-          mj *= w;
-          wVol *= w;
-        }
-      if constexpr (Corrected) {
-        ai.noalias() -= mj * ((qOwn * sij) * gI + (qOther * sij) * gJ + Pij * gradW);
-      } else if constexpr (Solid) {
-        ai.noalias() -= (mj * pair::pressureTerm(qOwn, qOther, sij, Pij)) * gradW;
+  }
+
+  // The pressure and the viscosity: Lam et al. (2001) Eq. 20's isotropic part
+  // (pair::pressureTerm), with both particles' own gradients when corrected.
+  [[gnu::always_inline]] void pressureForce(Row& r, const Pair& p) const {
+    if constexpr (Corrected) {
+      r.ai.noalias() -=
+          p.mj * ((p.qOwn * p.sij) * p.gI + (p.qOther * p.sij) * p.gJ + p.Pij * p.gradW);
+    } else if constexpr (Solid) {
+      r.ai.noalias() -= (p.mj * pair::pressureTerm(p.qOwn, p.qOther, p.sij, p.Pij)) * p.gradW;
+    } else {
+      // (The hydro loop keeps the division of the product form behind a branch: it spills
+      // less there than the factor s_i s_j, the solid loops the other way round.)
+      const double term =
+          (product_ ? (p.qOwn + p.qOther) / (r.rhoi * rho_[p.j]) : p.qOwn + p.qOther) + p.Pij;
+      r.ai.noalias() -= (p.mj * term) * p.gradW;
+    }
+  }
+
+  // A confining pressure (methods/modules/ConfiningPressure.hpp): the row's surface sum G_i, the
+  // force per unit mass a unit shift of the stress of i and all its neighbors exerts on i.
+  [[gnu::always_inline]] void surfaceSums(Row& r, const Pair& p) const {
+    if (!surfaces_) return;
+    const double rhoj = rho_[p.j];
+    const double uJ = product_ ? 1.0 : 1.0 / (rhoj * rhoj);
+    if constexpr (Corrected)
+      r.Gi.noalias() += (p.mj * p.sij) * (r.uI * p.gI + uJ * p.gJ);
+    else
+      r.Gi.noalias() += (p.mj * (r.uI + uJ) * p.sij) * p.gradW;
+  }
+
+  // sigma = -p I + S: the deviatoric part of Lam et al. Eqs. 20-21 in tensor form; the energy
+  // share is -S_i/rho_i^2 : (m_j v_ij (x) grad W), which with the momentum term conserves total
+  // energy pair by pair. rho^2 form: (S_i/rho_i^2 + S_j/rho_j^2) grad W; product form: the same
+  // with S/rho on both sides, each times the other's s = 1/rho. And the velocity gradient
+  // L_i = -sum_j V_j v_ij (x) grad_i W_ij.
+  // (Each dimension in the form that compiles to the arithmetic the rho^2 form had as an
+  // instantiation of its own, so that earlier runs are reproduced bit for bit: in 1D the other's
+  // s applied to the gradient, a factor 1 there; in 2D and 3D a branch, which keeps the loop's
+  // registers from spilling.)
+  [[gnu::always_inline]] void deviatoricStress(Row& r, const Pair& p) const {
+    const std::uint32_t j = p.j;
+    if constexpr (Dim == 1) {
+      const Vec<Dim> tI = r.SiOwn * (scratch_[j].s * p.gI), tJ = sOverRho_[j] * (r.sI * p.gJ);
+      r.ai.noalias() += p.mj * (tI + tJ);
+      r.dei -= p.mj * p.vij.dot(tI);
+    } else {
+      const Vec<Dim> tI = r.SiOwn * p.gI, tJ = sOverRho_[j] * p.gJ;
+      if (product_) {
+        r.ai.noalias() += p.wVol * tI + (p.mj * r.sI) * tJ;
+        r.dei -= p.wVol * p.vij.dot(tI);
       } else {
-        // (The hydro loop keeps the division of the product form behind a branch: it spills
-        // less there than the factor s_i s_j, the solid loops the other way round.)
-        const double term = (product ? (qOwn + qOther) / (rhoi * rhoj) : qOwn + qOther) + Pij;
-        ai.noalias() -= (mj * term) * gradW;
-      }
-      if (surfaces) {
-        const double uJ = product ? 1.0 : 1.0 / (rhoj * rhoj);
-        if constexpr (Corrected)
-          Gi.noalias() += (mj * sij) * (uI * gI + uJ * gJ);
-        else
-          Gi.noalias() += (mj * (uI + uJ) * sij) * gradW;
-      }
-      const double vgrad = vij.dot(gradW);
-      if constexpr (Solid)
-        if (!across) {
-          // sigma = -p I + S: the deviatoric part of Lam et al. Eqs. 20-21 in tensor form; the
-          // energy share is -S_i/rho_i^2 : (m_j v_ij (x) grad W), which with the momentum term
-          // conserves total energy pair by pair.
-          // rho^2 form: (S_i/rho_i^2 + S_j/rho_j^2) grad W; product form: the same with
-          // S/rho on both sides, each times the other's s = 1/rho.
-          // (Each dimension in the form that compiles to the arithmetic the rho^2 form had
-          // as an instantiation of its own, so that earlier runs are reproduced bit for bit:
-          // in 1D the other's s applied to the gradient, a factor 1 there; in 2D and 3D a
-          // branch, which keeps the loop's registers from spilling.)
-          if constexpr (Dim == 1) {
-            const Vec<Dim> tI = SiOwn * (rj.s * gI), tJ = sOverRho_[j] * (sI * gJ);
-            ai.noalias() += mj * (tI + tJ);
-            dei -= mj * vij.dot(tI);
-          } else {
-            const Vec<Dim> tI = SiOwn * gI, tJ = sOverRho_[j] * gJ;
-            if (product) {
-              ai.noalias() += wVol * tI + (mj * sI) * tJ;
-              dei -= wVol * vij.dot(tI);
-            } else {
-              ai.noalias() += mj * (tI + tJ);
-              dei -= mj * vij.dot(tI);
-            }
-          }
-          Li.noalias() -= rj.vol * (vij * gI.transpose());
-          if constexpr (Dim == 2)
-            if (rz) Mrr -= rj.vol * xij[0] * gI[0];
-          if (artificialStress && (tensileI || tensile_[j])) {
-            // Gray, Monaghan & Swift (2001) (Monaghan 2000 for fluids): m_j f_ij^n (R_i + R_j) .
-            // grad W in the momentum equation; e_i takes its own share, -m_j f^n v_ij . R_i grad
-            // W, so that total energy stays conserved pair by pair (as for the stress).
-            const double f = K::f(qMean) * invWdp;
-            double fn = f;
-            for (int k = 1; k < nAS; ++k) fn *= f;
-            const Vec<Dim> rI = Ri * gI;
-            ai.noalias() += (mj * fn) * (rI + artificialStress_[j] * gJ);
-            dei -= mj * fn * vij.dot(rI);
-            // rz: R has no hoop part to balance what the weight adds (~ 2 R.k), so the radial
-            // part of that is taken off per particle below, as the hoop force does for sigma:
-            // else a uniform tension pulls the rings next to the axis inward (by half their
-            // speed in a uniform radial stretch).
-            if constexpr (Dim == 2)
-              if (rz) krAS += m[j] * (w - 1.0) * fn * gI[0];
-          }
-        }
-      // Each particle takes its own p dV share of the pair's work and half the viscous
-      // heating: e_i gains (p_i/rho_i^2 + Pi_ij/2) m_j v_ij . grad W (Monaghan 1992), or
-      // p_i/(rho_i rho_j) in the product form. Summed over pairs this equals Lam et al.'s
-      // symmetric Eq. 21 (total energy is conserved exactly either way), but Eq. 21's even
-      // split charges a cold particle for the work of a hot neighbour pushing it away, which
-      // drives e negative around a point blast (Sedov: e down to -60 at 20 steps).
-      const double own = qOwn * sij;
-      if constexpr (Corrected)
-        dei += mj * (own * vij.dot(gI) + 0.5 * Pij * vgrad);
-      else
-        dei += mj * (own + 0.5 * Pij) * vgrad;
-      const double volj = rj.vol;
-      // An open crack is not the material's expansion: a cracked pair is left out of the
-      // divergence, as out of the velocity gradient.
-      if (!cracked) {
-        if constexpr (Corrected) {
-          // -div v_i = trace of the corrected gradient (L_i below): exact for a linear field.
-          drhoi += volj * vij.dot(gI);
-          if constexpr (Dim == 2)
-            if (rz) MrrVolume -= volj * xij[0] * gI[0];
-        } else {
-          drhoi += volj * vij.dot(gradWi);
-          if constexpr (Dim == 2)
-            if (rz) MrrVolume -= volj * xij[0] * gradWi[0];
-        }
-      }
-      if (balsara) {
-        divi -= volj * vgrad;
-        if constexpr (Dim == 2) curli[0] += volj * (vij[0] * gradW[1] - vij[1] * gradW[0]);
-        if constexpr (Dim == 3) curli += volj * vij.cross(gradW);
+        r.ai.noalias() += p.mj * (tI + tJ);
+        r.dei -= p.mj * p.vij.dot(tI);
       }
     }
-    // Axisymmetric: the hoop force and rates (solvers/Axisymmetric.hpp).
-    [[maybe_unused]] double Dtt = 0.0;
+    r.Li.noalias() -= scratch_[j].vol * (p.vij * p.gI.transpose());
     if constexpr (Dim == 2)
-      if (rz) {
-        // The hoop force is the complement of the pair weights, pair by pair: where a pair
-        // carries -max(p_i, 0) I of i's stress (across a contact or a crack), its share of the
-        // hoop force carries the same. Else a ring whose pairs are all cracked, in tension,
-        // has a hoop pull no radial stress balances and no hoop rate relaxes (its density is
-        // frozen): it falls toward the axis, its p dV work drives e, and with it the tension,
-        // down without bound (a steel ring among eroded tungsten reached -3e14 Pa).
-        const double sigmaTT = (Solid ? Sdev[i](2, 2) : 0.0) - p[i];
-        const rz::HoopForce hoop =
-            rz::hoopForce(kr - krAcross, sigmaTT, -std::max(p[i], 0.0), krAcross,
-                          product ? 1.0 / rhoi : 1.0 / (rhoi * rhoi), vi[0]);
-        ai[0] += hoop.ar;
-        dei += hoop.dedt;
-        if constexpr (Solid)
-          if (tensileI) { // (else R_i = 0)
-            const double ar = -2.0 * Ri(0, 0) * krAS;
-            ai[0] += ar;
-            dei -= ar * vi[0];
-          }
-        const rz::HoopRates D = rz::hoopRates(vi[0], ringR_[i], MrrVolume, Solid ? Mrr : MrrVolume);
-        drhoi -= D.volume;
-        divi += D.volume;
-        Dtt = D.strain;
-      }
-    if (surfaces) {
+      if (rz_) r.Mrr -= scratch_[j].vol * p.xij[0] * p.gI[0];
+  }
+
+  // Gray, Monaghan & Swift (2001) (Monaghan 2000 for fluids): m_j f_ij^n (R_i + R_j) . grad W in
+  // the momentum equation; e_i takes its own share, -m_j f^n v_ij . R_i grad W, so that total
+  // energy stays conserved pair by pair (as for the stress). Only where one of the two is in
+  // tension (R != 0): a body compressed in every direction skips it; a flowing bar has a tensile
+  // principal stress (the hoop) almost everywhere, so over a Taylor bar this saves 1%.
+  [[gnu::always_inline]] void artificialStress(Row& r, const Pair& p) const {
+    const std::uint32_t j = p.j;
+    if (!(artificial_ && (r.tensileI || tensile_[j]))) return;
+    const double f = K::f(p.qMean) * invWdp_;
+    double fn = f;
+    for (int k = 1; k < nAS_; ++k) fn *= f;
+    const Vec<Dim> rI = r.Ri * p.gI;
+    r.ai.noalias() += (p.mj * fn) * (rI + R_[j] * p.gJ);
+    r.dei -= p.mj * fn * p.vij.dot(rI);
+    // rz: R has no hoop part to balance what the weight adds (~ 2 R.k), so the radial part of
+    // that is taken off per particle (closeRow), as the hoop force does for sigma: else a
+    // uniform tension pulls the rings next to the axis inward (by half their speed in a uniform
+    // radial stretch).
+    if constexpr (Dim == 2)
+      if (rz_) r.krAS += m_[j] * (p.w - 1.0) * fn * p.gI[0];
+  }
+
+  // Each particle takes its own p dV share of the pair's work and half the viscous heating: e_i
+  // gains (p_i/rho_i^2 + Pi_ij/2) m_j v_ij . grad W (Monaghan 1992), or p_i/(rho_i rho_j) in the
+  // product form. Summed over pairs this equals Lam et al.'s symmetric Eq. 21 (total energy is
+  // conserved exactly either way), but Eq. 21's even split charges a cold particle for the work
+  // of a hot neighbour pushing it away, which drives e negative around a point blast (Sedov: e
+  // down to -60 at 20 steps).
+  [[gnu::always_inline]] void energyShare(Row& r, const Pair& p) const {
+    const double own = p.qOwn * p.sij;
+    if constexpr (Corrected)
+      r.dei += p.mj * (own * p.vij.dot(p.gI) + 0.5 * p.Pij * p.vgrad);
+    else
+      r.dei += p.mj * (own + 0.5 * p.Pij) * p.vgrad;
+  }
+
+  // Continuity, -div v_i = sum_j V_j v_ij . grad W(r_ij, h_i) (closeRow's comment says why this
+  // form); the corrected gradient's trace where corrected, exact for a linear field. An open
+  // crack is not the material's expansion: a cracked pair is left out of the divergence, as out
+  // of the velocity gradient.
+  [[gnu::always_inline]] void continuity(Row& r, const Pair& p) const {
+    if (p.cracked) return;
+    const double volj = scratch_[p.j].vol;
+    if constexpr (Corrected) {
+      r.drhoi += volj * p.vij.dot(p.gI);
+      if constexpr (Dim == 2)
+        if (rz_) r.MrrVolume -= volj * p.xij[0] * p.gI[0];
+    } else {
+      r.drhoi += volj * p.vij.dot(p.gradWi);
+      if constexpr (Dim == 2)
+        if (rz_) r.MrrVolume -= volj * p.xij[0] * p.gradWi[0];
+    }
+  }
+
+  // Balsara (1995): div v and |curl v| for the next loop's switch (pair::balsaraFactor).
+  [[gnu::always_inline]] void balsaraSums(Row& r, const Pair& p) const {
+    if (!balsara_) return;
+    const double volj = scratch_[p.j].vol;
+    r.divi -= volj * p.vgrad;
+    if constexpr (Dim == 2) r.curli[0] += volj * (p.vij[0] * p.gradW[1] - p.vij[1] * p.gradW[0]);
+    if constexpr (Dim == 3) r.curli += volj * p.vij.cross(p.gradW);
+  }
+
+  // ---- the row ----------------------------------------------------------------------------
+  [[gnu::always_inline]] void openRow(Row& r, std::size_t i) const {
+    r.i = i;
+    r.xi = x_[i], r.vi = v_[i];
+    r.hi = h_[i], r.rhoi = rho_[i], r.ci = cs_[i];
+    r.bodyi = body_[i];
+    const RowScratch& ri = scratch_[i];
+    r.qI = ri.q, r.sI = ri.s, r.fi = ri.balsara;
+    r.uI = product_ ? 1.0 : 1.0 / (r.rhoi * r.rhoi);
+    r.ai.setZero(), r.Gi.setZero();
+    r.dei = 0.0, r.drhoi = 0.0, r.sumWHi = 0.0, r.mui = 0.0, r.divi = 0.0;
+    r.curli.setZero();
+    r.Mrr = 1.0, r.MrrVolume = 0.0, r.kr = 0.0, r.krAcross = 0.0, r.krAS = 0.0, r.Dtt = 0.0;
+    if constexpr (Solid) {
+      r.SiOwn = sOverRho_[i].full();
+      r.Li.setZero();
+      r.Mrr = 0.0;
+      r.Ri = artificial_ ? R_[i].full() : MatD::Zero();
+    }
+    r.tensileI = Solid && artificial_ && tensile_[i];
+    if constexpr (Corrected) r.Bi = Bcorr_[i].template topLeftCorner<Dim, Dim>();
+  }
+
+  // The kernel values of the row's pairs, in a pass of their own that runs in vector registers
+  // (Sph::pairKernels, Sph::anisoPairKernels).
+  [[gnu::always_inline]] void kernelPass(const Row& r, std::span<const std::uint32_t> row,
+                                         RowKernels& kernels) const {
+    const Vec<Dim> xi = r.xi; // (a copy: the call takes its address, not the row's)
+    if constexpr (Aniso) {
+      o_.anisoPairKernels(xi, r.i, row, kernels);
+    } else {
+      const double hiInv = 1.0 / r.hi;
+      o_.pairKernels(xi, hiInv, sigma_ * ipow<Dim>(hiInv) * hiInv, row, kernels);
+    }
+  }
+
+  // The hoop force and rates (solvers/Axisymmetric.hpp), the confining pressure's force, and
+  // the row's writes.
+  [[gnu::always_inline]] void closeRow(Row& r) const {
+    const std::size_t i = r.i;
+    if constexpr (Dim == 2)
+      if (rz_) hoopClosure(r);
+    if (surfaces_) {
       // rz: the hoop force's share, -2 c k_r per unit sigma_tt (rz::hoopForce).
       if constexpr (Dim == 2)
-        if (rz) Gi[0] -= 2.0 * (product ? 1.0 / rhoi : 1.0 / (rhoi * rhoi)) * kr;
-      ai.noalias() += P[i] * Gi;
-      area[i] = -mass[i] * Gi;
+        if (rz_) r.Gi[0] -= 2.0 * (product_ ? 1.0 / r.rhoi : 1.0 / (r.rhoi * r.rhoi)) * r.kr;
+      r.ai.noalias() += P_[i] * r.Gi;
+      area_[i] = -mass_[i] * r.Gi;
     }
-    acc[i] = ai;
-    dedt[i] = dei;
+    acc_[i] = r.ai;
+    dedt_[i] = r.dei;
     if constexpr (Solid) {
-      Lgrad[i].setZero();
-      Lgrad[i].template topLeftCorner<Dim, Dim>() = Li;
-      if constexpr (Dim == 2) Lgrad[i](2, 2) = Dtt; // the hoop rate in rz (0 in plane strain)
+      Lgrad_[i].setZero();
+      Lgrad_[i].template topLeftCorner<Dim, Dim>() = r.Li;
+      if constexpr (Dim == 2) Lgrad_[i](2, 2) = r.Dtt; // the hoop rate in rz (0 in plane strain)
     }
     // Continuity, d rho_i/dt = -rho_i div v_i with div v_i = -sum_j (m_j/rho_j) v_ij . grad
     // W(r_ij, h_i): volume-weighted, so it stays accurate across a material interface with a
     // large density jump, and with i's own support (gather), so that it stays consistent where h
     // changes fast. (The pair-averaged gradient of the momentum equation over-compresses the Noh
     // shock by ~40% here; the gather form gives the post-shock density within 8%.)
-    drhodt[i] = rhoi * drhoi;
-    sumWH[i] = sumWHi;
-    if constexpr (Aniso) {
-      // The shape of the next H (solvers/IdealH.hpp): i's Voronoi cell among the row, in a box
-      // as wide as i's longest reach, cut in the row's (rank-count-independent) order; every
-      // shape_interval evaluations, staggered by id so that each step cuts the same share.
-      // Half the cost of an ASPH step is the cell, and H moves only half way towards it a
-      // step: a cell a few steps old is as good a target (decks/README, "ASPH").
-      std::int32_t& age = cellAge[i]; // evaluations since the last cut, plus 1; 0: never cut
-      if (age > 0 && age < shapeInterval) {
-        ++age;
-      } else {
-        thread_local std::vector<Vec<Dim>> offsets;
-        thread_local VoronoiCell<Dim> cell;
-        offsets.clear();
-        for (std::uint32_t j : row) offsets.push_back(x[j] - xi);
-        cellMoment[i] = voronoiCell<Dim>(cell, offsets, K::support * hi) ? cell.moments().second
-                                                                         : Tensor<Dim>::Zero();
-        age = age == 0
-                  ? 1 + static_cast<std::int32_t>(id[i] % static_cast<ParticleId>(shapeInterval))
-                  : 1;
-      }
-    }
-    muMax[i] = mui;
-    if (balsara) {
+    drhodt_[i] = r.rhoi * r.drhoi;
+    sumWH_[i] = r.sumWHi;
+    muMax_[i] = r.mui;
+    if (balsara_) {
       // Not into divv/curlv yet: later rows of this loop read them of their owned neighbors,
       // which must see the previous loop's values, as ghosts do (else the result depends on
       // the row order, and so on the rank count).
-      divNew_[i] = divi;
-      curlNew_[i] = curli.norm();
+      o_.divNew_[i] = r.divi;
+      o_.curlNew_[i] = r.curli.norm();
     }
   }
-  if (balsara) {
-    std::copy_n(divNew_.begin(), n, divv.begin());
-    std::copy_n(curlNew_.begin(), n, curlv.begin());
+
+  // rz: the hoop force is the complement of the pair weights, pair by pair: where a pair carries
+  // -max(p_i, 0) I of i's stress (across a contact or a crack), its share of the hoop force
+  // carries the same. Else a ring whose pairs are all cracked, in tension, has a hoop pull no
+  // radial stress balances and no hoop rate relaxes (its density is frozen): it falls toward
+  // the axis, its p dV work drives e, and with it the tension, down without bound (a steel ring
+  // among eroded tungsten reached -3e14 Pa).
+  [[gnu::always_inline]] void hoopClosure(Row& r) const {
+    const std::size_t i = r.i;
+    const double sigmaTT = (Solid ? Sdev_[i](2, 2) : 0.0) - p_[i];
+    const rz::HoopForce hoop =
+        rz::hoopForce(r.kr - r.krAcross, sigmaTT, -std::max(p_[i], 0.0), r.krAcross,
+                      product_ ? 1.0 / r.rhoi : 1.0 / (r.rhoi * r.rhoi), r.vi[0]);
+    r.ai[0] += hoop.ar;
+    r.dei += hoop.dedt;
+    if constexpr (Solid)
+      if (r.tensileI) { // (else R_i = 0)
+        const double ar = -2.0 * r.Ri(0, 0) * r.krAS;
+        r.ai[0] += ar;
+        r.dei -= ar * r.vi[0];
+      }
+    const rz::HoopRates D =
+        rz::hoopRates(r.vi[0], ring_[i], r.MrrVolume, Solid ? r.Mrr : r.MrrVolume);
+    r.drhoi -= D.volume;
+    r.divi += D.volume;
+    r.Dtt = D.strain;
   }
+
+  // The kernels' pair predicate (reaches), for the crack rule.
+  bool interacts(std::size_t a, std::size_t b) const {
+    if constexpr (Aniso)
+      return reaches<Dim>(x_[a] - x_[b], o_.anisoRow_[a].G, o_.anisoRow_[b].G, K::support);
+    else
+      return reaches<Dim>(x_[a] - x_[b], std::max(h_[a], h_[b]), K::support);
+  }
+
+  // ---- what depends on j alone, of every row (ghosts included), once a loop ----------------
+  // The pair loop then only adds and multiplies: S_j / rho_j^2 (or S_j / rho_j for the product
+  // form), the reconstruction's strain rates, R_j, and the per-row factors of the pressure term.
+  void prepareRows() {
+    Sph& o = o_;
+    const ParticleFields<Dim>& f = o.f_;
+    const SolverConfig& cfg = o.cfg_;
+    balsara_ = cfg.artificial_viscosity.balsara;
+    product_ = cfg.stress_form == StressForm::RhoProduct;
+    rz_ = cfg.geometry == Geometry::RZ;
+    artificial_ = cfg.artificial_stress.enabled;
+    reconstruct_ = Solid && cfg.artificial_viscosity.reconstruct;
+    nAS_ = cfg.artificial_stress.exponent;
+    // f_ij = W(r_ij)/W(dp) with dp = h/n_h, the initial spacing in units of h.
+    invWdp_ = 1.0 / K::f(1.0 / cfg.nodes_per_h);
+    alpha_ = cfg.artificial_viscosity.alpha, beta_ = cfg.artificial_viscosity.beta;
+    sigma_ = K::sigma();
+    frictionless_ = cfg.contact != Contact::Welded;
+    body_ = frictionless_ ? o.s_[f.contactGroup] : o.s_[f.body];
+    surfaces_ = f.surfaceArea.valid();
+    if (surfaces_) P_ = o.s_[f.confiningPressure], area_ = o.s_[f.surfaceArea];
+    acc_ = o.s_[f.a], dedt_ = o.s_[f.dedt], drhodt_ = o.s_[f.drhodt];
+    sumWH_ = o.s_[f.sumWH], muMax_ = o.s_[f.muMax];
+    if (balsara_) resizeWithHeadroom(o.divNew_, n_), resizeWithHeadroom(o.curlNew_, n_);
+    if constexpr (Solid) {
+      Sdev_ = o.s_[f.S], Lgrad_ = o.s_[f.L];
+      prepareStressRows();
+    }
+    if constexpr (Corrected) Bcorr_ = o.s_[f.B];
+    if constexpr (Aniso) o.prepareAnisoRows();
+    prepareRowScratch();
+    if (rz_) ring_ = o.ringR_.data();
+    // Damaged pairs (solvers/CrackedPairs.hpp): a pair with a particle that failed (damage 1)
+    // and can carry no tension, or with one between them, transmits compression only, as across
+    // a contact (contactRule). Without it, the intact side's tension would still reach across the
+    // failed layer through the pair's other half.
+    damagedPairs_ = Solid && o.markCracks();
+    if (damagedPairs_) o.cracks_.collect(nl_, n_);
+  }
+
+  // Solids: S/rho^2 (or S/rho), the reconstruction's strain rates and gates, R.
+  void prepareStressRows() {
+    Sph& o = o_;
+    const std::size_t all = o.s_.size();
+    const bool product = product_, rz = rz_;
+    const auto Sdev = Sdev_;
+    const auto rho = rho_;
+    resizeWithHeadroom(o.sOverRho_, all);
+#pragma omp parallel for schedule(static) if (threaded(all))
+    for (std::size_t j = 0; j < all; ++j)
+      o.sOverRho_[j] = RowTensor::symmetricPart(Sdev[j]) / (product ? rho[j] : rho[j] * rho[j]);
+    sOverRho_ = o.sOverRho_.data();
+    // The strain rates of the reconstruction, of every row before this loop overwrites L (the
+    // owned rows must read the previous loop's L, as ghosts do: else the sums depend on the
+    // row order, and so on the rank count).
+    if (reconstruct_) {
+      resizeWithHeadroom(o.strainRate_, all);
+      resizeWithHeadroom(o.isochoric_, all);
+      const auto Lgrad = Lgrad_;
+#pragma omp parallel for schedule(static) if (threaded(all))
+      for (std::size_t j = 0; j < all; ++j) {
+        const MatD Lj = Lgrad[j].template topLeftCorner<Dim, Dim>();
+        o.strainRate_[j] = RowTensor::symmetricPart(Lj);
+        // In rz the volume change includes the hoop rate D_tt = L(2,2): a mushroom's plastic
+        // flow is isochoric in 3D, not in the r-z plane.
+        o.isochoric_[j] = rz ? pair::isochoricGate<3>(0.5 * (Lgrad[j] + Lgrad[j].transpose()))
+                             : pair::isochoricGate<Dim>(o.strainRate_[j].full());
+      }
+    }
+    if (artificial_) {
+      resizeWithHeadroom(o.artificialStress_, all);
+      resizeWithHeadroom(o.tensile_, all);
+      // Only solids: a fluid in a multi-material deck keeps the plain pressure term.
+      const auto mat = o.s_[o.f_.material];
+      const auto p = p_;
+      const double epsilon = o.cfg_.artificial_stress.epsilon;
+#pragma omp parallel for schedule(static) if (threaded(all))
+      for (std::size_t j = 0; j < all; ++j) {
+        o.artificialStress_[j] = o.solid_[static_cast<std::size_t>(mat[j])]
+                                     ? RowTensor::symmetricPart(pair::artificialStress<Dim>(
+                                           Sdev[j], p[j], rho[j], epsilon))
+                                     : RowTensor::zero();
+        o.tensile_[j] = o.artificialStress_[j].nonzero();
+      }
+      R_ = o.artificialStress_.data();
+      tensile_ = o.tensile_.data();
+    }
+  }
+
+  // The pair term's form and the Balsara switch enter as per-row factors, so that the pair loop
+  // has no branch on them: q = p/rho^2 and s = 1 (rho^2 form) or q = p and s = 1/rho (product
+  // form), the pressure term being (q_i + q_j) s_i s_j; f = the Balsara factor, or 1. (A
+  // multiplication by exactly 1 changes no bit: the rho^2 form without Balsara computes what it
+  // computed when each was an instantiation of its own.)
+  void prepareRowScratch() {
+    Sph& o = o_;
+    const std::size_t all = o.s_.size();
+    const bool product = product_, balsara = balsara_;
+    const auto h = h_, rho = rho_, p = p_, cs = cs_;
+    const auto m = m_;
+    const auto divv = balsara ? o.s_[o.f_.divv] : std::span<double>{};
+    const auto curlv = balsara ? o.s_[o.f_.curlv] : std::span<double>{};
+    const double sigma = sigma_;
+    resizeWithHeadroom(o.rowScratch_, all);
+#pragma omp parallel for schedule(static) if (threaded(all))
+    for (std::size_t j = 0; j < all; ++j) {
+      const double hjInv = 1.0 / h[j];
+      o.rowScratch_[j] = {hjInv,
+                          sigma * ipow<Dim>(hjInv) * hjInv,
+                          m[j] / rho[j],
+                          product ? p[j] : p[j] / (rho[j] * rho[j]),
+                          product ? 1.0 / rho[j] : 1.0,
+                          balsara ? pair::balsaraFactor(divv[j], curlv[j], cs[j], h[j]) : 1.0};
+    }
+    scratch_ = o.rowScratch_.data();
+  }
+
+  Sph& o_;
+  const neighbors::NeighborList& nl_;
+  const std::size_t firstWallImage_;
+  // Inputs: fields of every row (ghosts included), m as the planar loops weigh it
+  // (Sph::planarMass).
+  const std::span<Vec<Dim>> x_, v_;
+  const std::span<double> h_;
+  const std::span<const double> m_;
+  const std::span<double> rho_, p_, cs_, mass_;
+  const std::size_t n_;          // owned rows
+  std::span<std::int32_t> body_; // contact groups, or bodies when welded
+  std::span<Tensor<3>> Sdev_, Lgrad_, Bcorr_;
+  const RowScratch* scratch_ = nullptr;
+  const RowTensor* sOverRho_ = nullptr;
+  const RowTensor* R_ = nullptr;          // artificial stress
+  const std::uint8_t* tensile_ = nullptr; // R != 0
+  const double* ring_ = nullptr;          // rz: ring radii
+  std::span<double> P_;                   // confining pressure
+  // Outputs, of the owned rows.
+  std::span<Vec<Dim>> acc_, area_;
+  std::span<double> dedt_, drhodt_, sumWH_, muMax_;
+  // Options.
+  bool balsara_ = false, product_ = false, rz_ = false, artificial_ = false;
+  bool reconstruct_ = false, frictionless_ = false, surfaces_ = false, damagedPairs_ = false;
+  int nAS_ = 1;
+  double invWdp_ = 1.0, alpha_ = 0.0, beta_ = 0.0, sigma_ = 0.0;
+};
+
+template <int Dim, class K, bool Aniso>
+template <Stress Mode>
+void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl, std::size_t firstWallImage) {
+  RatesLoop<Mode>(*this, nl, firstWallImage).run();
+}
+
+// The shape of the next H (solvers/IdealH.hpp): each owned row's Voronoi cell among its row, in
+// a box as wide as its longest reach, cut in the row's (rank-count-independent) order at the
+// force loop's positions; every shape_interval evaluations, staggered by id so that each step
+// cuts the same share. Half the cost of an ASPH step is the cell, and H moves only half way
+// towards it a step: a cell a few steps old is as good a target (decks/README, "ASPH").
+template <int Dim, class K, bool Aniso>
+void Sph<Dim, K, Aniso>::cutVoronoiCells(const neighbors::NeighborList& nl) {
+  const std::size_t n = s_.localCount();
+#pragma omp parallel for schedule(dynamic, 64) if (threaded(n))
+  for (std::size_t i = 0; i < n; ++i) {
+    thread_local std::vector<std::uint32_t> rowBuf; // each thread's own
+    cutVoronoiCell(i, nl.of(i, rowBuf));
+  }
+}
+
+template <int Dim, class K, bool Aniso>
+void Sph<Dim, K, Aniso>::cutVoronoiCell(std::size_t i, std::span<const std::uint32_t> row) {
+  const auto x = s_[f_.x];
+  std::int32_t& age = s_[f_.cellAge][i]; // evaluations since the last cut, plus 1; 0: never cut
+  const std::int32_t shapeInterval = cfg_.shape_interval;
+  if (age > 0 && age < shapeInterval) {
+    ++age;
+    return;
+  }
+  thread_local std::vector<Vec<Dim>> offsets;
+  thread_local VoronoiCell<Dim> cell;
+  offsets.clear();
+  for (std::uint32_t j : row) offsets.push_back(x[j] - x[i]);
+  s_[f_.cellMoment][i] = voronoiCell<Dim>(cell, offsets, K::support * s_[f_.h][i])
+                             ? cell.moments().second
+                             : Tensor<Dim>::Zero();
+  age = age == 0
+            ? 1 + static_cast<std::int32_t>(s_[f_.id][i] % static_cast<ParticleId>(shapeInterval))
+            : 1;
 }
 
 } // namespace spall::solvers::sph
