@@ -40,11 +40,18 @@ public:
   void project(const MpmParticles<Dim>& P, std::span<const std::uint32_t> order,
                double dt) override {
     connect(P, order.size());
+    if (!P.load.empty()) nodeLoads(P, order.size());
+    particleToGrid(P, order);
+    updateGrid(P, dt);
+    gridToParticle(P, dt);
+  }
+
+private:
+  // Particle to grid (P2G), in id order: mass, momentum, internal (and external) force; with
+  // contact each field's volume gradient for its normal and volume for the contact check; a fixed
+  // body's velocity on its nodes (its first point's in id order); the pressure loads' areas.
+  void particleToGrid(const MpmParticles<Dim>& P, std::span<const std::uint32_t> order) {
     const bool loaded = !P.load.empty(), external = !P.aExt.empty(), rigid = !P.rigid.empty();
-    if (loaded) nodeLoads(P, order.size());
-    // P2G in id order: mass, momentum, internal (and external) force; with contact each field's
-    // volume gradient for its normal and volume for the contact check; a fixed body's velocity
-    // on its nodes (its first point's in id order).
     const std::size_t N = fields();
     mass_.assign(N, 0.0);
     momentum_.assign(N, Vec<Dim>::Zero());
@@ -110,6 +117,13 @@ public:
       }
     }
     if (loaded) applyLoads();
+  }
+
+  // The grid update: the nodes' velocities before and after the step's forces, contact between
+  // the fields, walls and fixed bodies, and the FLIP increment.
+  void updateGrid(const MpmParticles<Dim>& P, double dt) {
+    const bool loaded = !P.load.empty(), rigid = !P.rigid.empty();
+    const std::size_t N = fields();
     // The grid's velocities before and after the step's forces (with contact, each corrected:
     // the force acts on the contact-corrected velocity). Walls and fixed bodies take the normal
     // part of both, so the FLIP increment vL - v carries what acts after the force, not their
@@ -144,7 +158,13 @@ public:
     }
     if (loaded) shareLoads(P);
     if (rigid) supports(dt);
-    // G2P on the owned rows (rz: their radii at the step's start kept for the hoop rate).
+  }
+
+  // Grid to particle (G2P): each owned point's position, velocity (FLIP/PIC blend, or APIC's
+  // velocity and affine part) and acceleration from its nodes.
+  void gridToParticle(const MpmParticles<Dim>& P, double dt) {
+    const bool rigid = !P.rigid.empty(), affine = !P.affine.empty();
+    // The owned rows (rz: their radii at the step's start kept for the hoop rate).
     if (rz_) {
       radius_.resize(P.owned);
       for (std::size_t r = 0; r < P.owned; ++r) radius_[r] = radius(P, r);
@@ -202,6 +222,7 @@ public:
     }
   }
 
+public:
   void velocityGradient(const MpmParticles<Dim>& P, std::span<const std::uint32_t> order,
                         std::span<Tensor<3>> L) override {
     const std::size_t N = fields();
