@@ -139,80 +139,57 @@ std::vector<RecordedRow> readState(const std::string& path, const io::FTable& ta
   return out;
 }
 
-} // namespace
-
-void runElement(const ElementOptions& o) {
-  if (o.substeps < 1) throw UsageError("--substeps must be at least 1");
-  if (!(o.flawVolume > 0.0)) throw UsageError("--flaw-volume must be positive");
-  if (o.kinematics != "run" && o.kinematics != "midpoint")
-    throw UsageError("--kinematics is run or midpoint, got '" + o.kinematics + "'");
-  const bool midpoint = o.kinematics == "midpoint";
-  if (!o.state.empty() && o.substeps != 1)
-    throw UsageError("--state replays a recorded particle row by row: --substeps 1");
-  const Deck deck = loadDeck(o.deckPath, o.overrides);
-  std::size_t k = deck.materials.size();
-  std::string names;
-  for (std::size_t m = 0; m < deck.materials.size(); ++m) {
-    if (deck.materials[m].name == o.material) k = m;
-    names += (names.empty() ? "" : ", ") + deck.materials[m].name;
-  }
-  if (k == deck.materials.size())
-    throw UsageError(
-        fmt::format("no material '{}' in {} (it has: {})", o.material, o.deckPath, names));
-  const io::FTable table = io::readFTable(o.table);
-  const auto recorded = o.state.empty() ? std::vector<RecordedRow>{} : readState(o.state, table);
-  if (fs::exists(o.output) && !o.overwrite)
-    throw UsageError(o.output + " exists; --overwrite replaces it");
-  const fs::path parent = fs::path(o.output).parent_path();
-  if (!parent.empty() && !fs::is_directory(parent))
-    throw UsageError("the directory of " + o.output + " does not exist");
-
-  const MaterialConfig& cfg = deck.materials[k];
-  const materials::Material mat = buildMaterials(deck)[k];
-  const materials::MaterialUpdate update({mat}, deck.run.seed);
-  const bool strength = mat.strength.has_value(), damage = mat.damage.has_value();
-  const bool cap = mat.cap.has_value(), porous = mat.porosity.has_value();
-  const bool flaws = mat.scalesWithDamage(), tensor = mat.tensorDamage();
-
-  // The particle: every field the material update reads or writes, one row each. It starts
-  // without deviatoric stress at the table's first F (density rho0 / det F, which sets a cap
-  // material's mean stress), with no internal energy; a porous one at alpha0 (bulk density
-  // rho0 = density / alpha0).
-  const double alpha0 = porous ? mat.porosity->alpha0 : 1.0;
-  const double rho0 = cfg.density / alpha0;
-  std::vector<double> rho{rho0 / totalF(table, 0, 0.0).determinant()}, e{0.0}, p{0.0}, cs{0.0};
-  if (!recorded.empty()) rho[0] = recorded[0].rho, e[0] = recorded[0].e;
-  std::vector<double> plastic{0.0}, temperature{cfg.strength.initialTemperature()};
-  std::vector<double> D{0.0}, flawScale{0.0}, flawNext{0.0};
+// The driven material point: every field the material update reads or writes, one row each. It
+// starts without deviatoric stress at the table's first F (density rho0 / det F, which sets a cap
+// material's mean stress), with no internal energy; a porous one at alpha0 (bulk density
+// rho0 = density / alpha0); a recorded particle where its recording starts.
+struct ElementPoint {
+  const materials::Material& mat;
+  bool strength, damage, cap, porous, flaws, tensor, elastic;
+  double alpha0, rho0;
+  std::vector<double> rho, e{0.0}, p{0.0}, cs{0.0};
+  std::vector<double> plastic{0.0}, temperature, D{0.0}, flawScale{0.0}, flawNext{0.0};
   std::vector<std::int32_t> material{0}, flawCount{0}, flawsActive{0};
   std::vector<Tensor<3>> L{Tensor<3>::Zero()}, S{Tensor<3>::Zero()}, Sintact{Tensor<3>::Zero()};
   std::vector<Tensor<3>> damageTensor{Tensor<3>::Zero()}, strainTensor{Tensor<3>::Zero()};
-  // A recorded particle's id: flaws past those active at the first row are drawn from it.
   std::vector<ParticleId> id{0};
-  if (!recorded.empty() && recorded[0].id >= 0.0) id[0] = static_cast<ParticleId>(recorded[0].id);
   std::vector<double> epsVp{0.0}, X{0.0}, phi{0.0}, pf{0.0};
   std::vector<std::int32_t> iterations{0};
-  std::vector<double> alpha{alpha0};
-  if (porous && !recorded.empty() && recorded[0].alpha > 0.0) alpha[0] = recorded[0].alpha;
-  const bool elastic = porous && mat.porosity->elastic();
-  std::vector<double> alphaP{alpha[0]};
-  if (elastic && !recorded.empty() && recorded[0].alphaP > 0.0) alphaP[0] = recorded[0].alphaP;
-  if (porous) phi[0] = 1.0 - 1.0 / alpha[0];
-  if (flaws) {
-    const auto set = materials::drawFlaws(std::get<materials::GradyKipp>(*mat.damage),
-                                          deck.run.seed, 0, o.flawVolume, 1);
-    flawCount[0] = set.count, flawScale[0] = set.scale, flawNext[0] = set.first;
-    // A recorded particle: the run's own draw (its id and volume), and where it stood.
+  std::vector<double> alpha, alphaP;
+
+  ElementPoint(const materials::Material& m, const MaterialConfig& cfg, const io::FTable& table,
+               const std::vector<RecordedRow>& recorded, std::uint64_t seed, double flawVolume)
+      : mat(m), strength(m.strength.has_value()), damage(m.damage.has_value()),
+        cap(m.cap.has_value()), porous(m.porosity.has_value()), flaws(m.scalesWithDamage()),
+        tensor(m.tensorDamage()), elastic(porous && m.porosity->elastic()),
+        alpha0(porous ? m.porosity->alpha0 : 1.0),
+        rho0(cfg.density / alpha0), rho{rho0 / totalF(table, 0, 0.0).determinant()},
+        temperature{cfg.strength.initialTemperature()}, alpha{alpha0} {
     const RecordedRow* r0 = recorded.empty() ? nullptr : &recorded[0];
-    if (r0 && !std::isnan(r0->flawCount) && !std::isnan(r0->flawScale)) {
-      flawCount[0] = static_cast<std::int32_t>(r0->flawCount);
-      flawsActive[0] = static_cast<std::int32_t>(r0->flawsActive);
-      flawScale[0] = r0->flawScale, flawNext[0] = r0->flawNext;
+    if (r0) rho[0] = r0->rho, e[0] = r0->e;
+    // A recorded particle's id: flaws past those active at the first row are drawn from it.
+    if (r0 && r0->id >= 0.0) id[0] = static_cast<ParticleId>(r0->id);
+    if (porous && r0 && r0->alpha > 0.0) alpha[0] = r0->alpha;
+    alphaP = {alpha[0]};
+    if (elastic && r0 && r0->alphaP > 0.0) alphaP[0] = r0->alphaP;
+    if (porous) phi[0] = 1.0 - 1.0 / alpha[0];
+    if (flaws) {
+      const auto set =
+          materials::drawFlaws(std::get<materials::GradyKipp>(*mat.damage), seed, 0, flawVolume, 1);
+      flawCount[0] = set.count, flawScale[0] = set.scale, flawNext[0] = set.first;
+      // A recorded particle: the run's own draw (its id and volume), and where it stood.
+      if (r0 && !std::isnan(r0->flawCount) && !std::isnan(r0->flawScale)) {
+        flawCount[0] = static_cast<std::int32_t>(r0->flawCount);
+        flawsActive[0] = static_cast<std::int32_t>(r0->flawsActive);
+        flawScale[0] = r0->flawScale, flawNext[0] = r0->flawNext;
+      }
     }
+    if (damage && r0 && !std::isnan(r0->damage)) D[0] = r0->damage;
+    if (r0) resume(*r0);
   }
-  if (damage && !recorded.empty() && !std::isnan(recorded[0].damage)) D[0] = recorded[0].damage;
-  if (!recorded.empty()) { // where the recording starts (mid-run: not the initial state)
-    const RecordedRow& r0 = recorded[0];
+
+  // Where the recording starts (mid-run: not the initial state).
+  void resume(const RecordedRow& r0) {
     const auto take = [](double& x, double recordedValue) {
       if (!std::isnan(recordedValue)) x = recordedValue;
     };
@@ -225,24 +202,24 @@ void runElement(const ElementOptions& o) {
     if (tensor && r0.damageTensor.allFinite() && r0.strainTensor.allFinite())
       damageTensor[0] = r0.damageTensor, strainTensor[0] = r0.strainTensor;
   }
-  materials::MaterialFields f{rho, e, material, p, cs, L, S, plastic, temperature};
-  if (damage) f.id = id, f.damage = D, f.Sintact = Sintact;
-  if (flaws)
-    f.flawCount = flawCount, f.flawsActive = flawsActive, f.flawScale = flawScale,
-    f.flawNext = flawNext;
-  if (tensor) f.damageTensor = damageTensor, f.strainTensor = strainTensor;
-  if (cap)
-    f.volumetricStrain = epsVp, f.capPosition = X, f.porosity = phi, f.porePressure = pf,
-    f.returnIterations = iterations;
-  if (porous) f.alpha = alpha, f.porosity = phi, f.returnIterations = iterations;
-  if (elastic) f.alphaPlastic = alphaP;
-  update.evaluate(f);
 
-  // Written to a side file and renamed when complete: a failed drive leaves no partial CSV.
-  const std::string partial = o.output + ".part";
-  std::string failed; // the material failed (non-finite): the rows before it are kept
-  {
-    auto out = fmt::output_file(partial);
+  materials::MaterialFields fields() {
+    materials::MaterialFields f{rho, e, material, p, cs, L, S, plastic, temperature};
+    if (damage) f.id = id, f.damage = D, f.Sintact = Sintact;
+    if (flaws)
+      f.flawCount = flawCount, f.flawsActive = flawsActive, f.flawScale = flawScale,
+      f.flawNext = flawNext;
+    if (tensor) f.damageTensor = damageTensor, f.strainTensor = strainTensor;
+    if (cap)
+      f.volumetricStrain = epsVp, f.capPosition = X, f.porosity = phi, f.porePressure = pf,
+      f.returnIterations = iterations;
+    if (porous) f.alpha = alpha, f.porosity = phi, f.returnIterations = iterations;
+    if (elastic) f.alphaPlastic = alphaP;
+    return f;
+  }
+
+  // The CSV's columns (docs/reference.md: the element driver's output) and a row of them.
+  std::string header() const {
     std::string header = "t";
     for (int a = 1; a <= 3; ++a)
       for (int b = 1; b <= 3; ++b) header += fmt::format(",F{}{}", a, b);
@@ -258,27 +235,80 @@ void runElement(const ElementOptions& o) {
     if (porous) header += ",porosity_alpha,porosity,return_iterations";
     if (elastic) header += ",plastic_distension";
     if (damage) header += ",damage";
-    out.print("{}\n", header);
-    const auto row = [&](double t, const Tensor<3>& F) {
-      const Tensor<3> sigma = S[0] - p[0] * Tensor<3>::Identity();
-      const Tensor<3> R = polarRotation(F);
-      const Tensor<3> unrotated = R.transpose() * sigma * R;
-      std::string line = fmt::format("{:.17g}", t);
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b) line += fmt::format(",{:.17g}", F(a, b));
-      for (const auto& ij : kVoigt) line += fmt::format(",{:.17g}", sigma(ij[0], ij[1]));
-      for (const auto& ij : kVoigt) line += fmt::format(",{:.17g}", unrotated(ij[0], ij[1]));
-      line += fmt::format(",{:.17g},{:.17g},{:.17g},{:.17g}", rho[0], e[0], p[0], cs[0]);
-      if (strength) line += fmt::format(",{:.17g},{:.17g}", plastic[0], temperature[0]);
-      if (cap)
-        line += fmt::format(",{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{}", plastic[0], epsVp[0],
-                            X[0], phi[0], pf[0], iterations[0]);
-      if (porous) line += fmt::format(",{:.17g},{:.17g},{}", alpha[0], phi[0], iterations[0]);
-      if (elastic) line += fmt::format(",{:.17g}", alphaP[0]);
-      if (damage) line += fmt::format(",{:.17g}", D[0]);
-      out.print("{}\n", line);
-    };
-    row(table.rows[0].t, totalF(table, 0, 0.0));
+    return header;
+  }
+  std::string row(double t, const Tensor<3>& F) const {
+    const Tensor<3> sigma = S[0] - p[0] * Tensor<3>::Identity();
+    const Tensor<3> R = polarRotation(F);
+    const Tensor<3> unrotated = R.transpose() * sigma * R;
+    std::string line = fmt::format("{:.17g}", t);
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) line += fmt::format(",{:.17g}", F(a, b));
+    for (const auto& ij : kVoigt) line += fmt::format(",{:.17g}", sigma(ij[0], ij[1]));
+    for (const auto& ij : kVoigt) line += fmt::format(",{:.17g}", unrotated(ij[0], ij[1]));
+    line += fmt::format(",{:.17g},{:.17g},{:.17g},{:.17g}", rho[0], e[0], p[0], cs[0]);
+    if (strength) line += fmt::format(",{:.17g},{:.17g}", plastic[0], temperature[0]);
+    if (cap)
+      line += fmt::format(",{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{}", plastic[0], epsVp[0], X[0],
+                          phi[0], pf[0], iterations[0]);
+    if (porous) line += fmt::format(",{:.17g},{:.17g},{}", alpha[0], phi[0], iterations[0]);
+    if (elastic) line += fmt::format(",{:.17g}", alphaP[0]);
+    if (damage) line += fmt::format(",{:.17g}", D[0]);
+    return line;
+  }
+};
+
+// The options' checks, and the deck's material they name.
+std::size_t checkElementOptions(const ElementOptions& o, const Deck& deck) {
+  std::size_t k = deck.materials.size();
+  std::string names;
+  for (std::size_t m = 0; m < deck.materials.size(); ++m) {
+    if (deck.materials[m].name == o.material) k = m;
+    names += (names.empty() ? "" : ", ") + deck.materials[m].name;
+  }
+  if (k == deck.materials.size())
+    throw UsageError(
+        fmt::format("no material '{}' in {} (it has: {})", o.material, o.deckPath, names));
+  return k;
+}
+
+void checkElementOutput(const ElementOptions& o) {
+  if (fs::exists(o.output) && !o.overwrite)
+    throw UsageError(o.output + " exists; --overwrite replaces it");
+  const fs::path parent = fs::path(o.output).parent_path();
+  if (!parent.empty() && !fs::is_directory(parent))
+    throw UsageError("the directory of " + o.output + " does not exist");
+}
+
+} // namespace
+
+void runElement(const ElementOptions& o) {
+  if (o.substeps < 1) throw UsageError("--substeps must be at least 1");
+  if (!(o.flawVolume > 0.0)) throw UsageError("--flaw-volume must be positive");
+  if (o.kinematics != "run" && o.kinematics != "midpoint")
+    throw UsageError("--kinematics is run or midpoint, got '" + o.kinematics + "'");
+  const bool midpoint = o.kinematics == "midpoint";
+  if (!o.state.empty() && o.substeps != 1)
+    throw UsageError("--state replays a recorded particle row by row: --substeps 1");
+  const Deck deck = loadDeck(o.deckPath, o.overrides);
+  const std::size_t k = checkElementOptions(o, deck);
+  const io::FTable table = io::readFTable(o.table);
+  const auto recorded = o.state.empty() ? std::vector<RecordedRow>{} : readState(o.state, table);
+  checkElementOutput(o);
+
+  const materials::Material mat = buildMaterials(deck)[k];
+  const materials::MaterialUpdate update({mat}, deck.run.seed);
+  ElementPoint pt(mat, deck.materials[k], table, recorded, deck.run.seed, o.flawVolume);
+  materials::MaterialFields f = pt.fields();
+  update.evaluate(f);
+
+  // Written to a side file and renamed when complete: a failed drive leaves no partial CSV.
+  const std::string partial = o.output + ".part";
+  std::string failed; // the material failed (non-finite): the rows before it are kept
+  {
+    auto out = fmt::output_file(partial);
+    out.print("{}\n", pt.header());
+    out.print("{}\n", pt.row(table.rows[0].t, totalF(table, 0, 0.0)));
     for (std::size_t r = 0; r + 1 < table.rows.size() && failed.empty(); ++r) {
       const double t0 = table.rows[r].t, span = table.rows[r + 1].t - t0;
       const double dt = span / o.substeps;
@@ -287,31 +317,32 @@ void runElement(const ElementOptions& o) {
         const Tensor<3> Fb = totalF(table, r, static_cast<double>(s) / o.substeps);
         // Austin (2013), Eq. 4.10 (the velocity gradient that takes F_n to F_n+1 over dt as a
         // run does) or Eq. 4.8 (midpoint).
-        L[0] = midpoint ? Tensor<3>((Fb - Fa) / dt * (0.5 * (Fb + Fa)).inverse())
-                        : Tensor<3>((Fb * Fa.inverse() - Tensor<3>::Identity()) / dt);
+        pt.L[0] = midpoint ? Tensor<3>((Fb - Fa) / dt * (0.5 * (Fb + Fa)).inverse())
+                           : Tensor<3>((Fb * Fa.inverse() - Tensor<3>::Identity()) / dt);
         // The stress power heats the material (with the stress of the step's start, as a run's
         // explicit energy update); the density follows F exactly.
-        const Tensor<3> sigma = S[0] - p[0] * Tensor<3>::Identity();
-        const Tensor<3> Dsym = 0.5 * (L[0] + L[0].transpose());
-        e[0] += dt * (sigma.cwiseProduct(Dsym)).sum() / rho[0];
-        rho[0] = rho0 / Fb.determinant();
+        const Tensor<3> sigma = pt.S[0] - pt.p[0] * Tensor<3>::Identity();
+        const Tensor<3> Dsym = 0.5 * (pt.L[0] + pt.L[0].transpose());
+        pt.e[0] += dt * (sigma.cwiseProduct(Dsym)).sum() / pt.rho[0];
+        pt.rho[0] = pt.rho0 / Fb.determinant();
         if (recorded.empty()) {
           update.update(f, dt);
         } else { // the run's update, then its re-evaluation at the kick-corrected state
           const RecordedRow& rec = recorded[r + 1];
-          rho[0] = rec.rhoUpdate, e[0] = rec.eUpdate;
+          pt.rho[0] = rec.rhoUpdate, pt.e[0] = rec.eUpdate;
           update.update(f, dt);
-          rho[0] = rec.rho, e[0] = rec.e;
+          pt.rho[0] = rec.rho, pt.e[0] = rec.e;
           update.evaluate(f);
         }
         const double t = t0 + span * s / o.substeps;
-        if (!S[0].allFinite() || !std::isfinite(p[0]) || !std::isfinite(e[0])) {
+        if (!pt.S[0].allFinite() || !std::isfinite(pt.p[0]) || !std::isfinite(pt.e[0])) {
           failed = fmt::format("element: non-finite stress at t = {:.9g} (between the rows on "
                                "lines {} and {} of {}); the rows before it are in {}",
                                t, table.rows[r].line, table.rows[r + 1].line, o.table, o.output);
           break;
         }
-        if (o.everySubstep || s == o.substeps) row(s == o.substeps ? table.rows[r + 1].t : t, Fb);
+        if (o.everySubstep || s == o.substeps)
+          out.print("{}\n", pt.row(s == o.substeps ? table.rows[r + 1].t : t, Fb));
         Fa = Fb;
       }
     }

@@ -37,15 +37,27 @@ template <int Dim> void Simulation<Dim>::keepRescuePoint(double dtNext, Clock::t
 // from the rescue point, and its state), so that `spall element --state` replays what it saw.
 template <int Dim>
 void Simulation<Dim>::explainFailure(const StepFailure& failure, Clock::time_point wall0) {
-  const ParticleReport& f = failure.fault();
   history_.flush();
   probesCsv_.flush();
+  const FailureReplay replay = replayFailure(failure, wall0);
+  writeFailureHistory(failure.fault(), replay);
+  throw RunError(failureText(failure, replay), true);
+}
+
+// The failing particle's last steps again, from the rescue copy: its rows of the failure's
+// history, its F-table (ParticleRecorder), and a checkpoint of the last good state.
+template <int Dim>
+typename Simulation<Dim>::FailureReplay Simulation<Dim>::replayFailure(const StepFailure& failure,
+                                                                       Clock::time_point wall0) {
+  const ParticleReport& f = failure.fault();
   const bool nonFinite = f.kind == ParticleReport::Kind::NonFinite;
+  FailureReplay out;
+  std::vector<std::string>& rows = out.rows;
+  double& pMin = out.pMin; // over the good steps sampled
+  std::int64_t& checkpointStep = out.checkpointStep;
   // The last state a normal step was taken from: the step before the failure. (A collapsed
   // step's own state is finite too, but its next dt is below the floor.)
   const std::int64_t lastGood = f.step - 1;
-  std::vector<std::string> rows;
-  double pMin = std::numeric_limits<double>::infinity(); // over the good steps sampled
   const auto sample = [&](std::int64_t step, double time, double dt) {
     const ParticleReport s = method_->particle(f.id);
     if (step < f.step && std::isfinite(s.p)) pMin = std::min(pMin, s.p);
@@ -61,7 +73,6 @@ void Simulation<Dim>::explainFailure(const StepFailure& failure, Clock::time_poi
   const auto record = [&](double time) {
     if (recorder) recorder->write(time, store_, f_, mpi_);
   };
-  std::int64_t checkpointStep = -1;
   const auto checkpointOnce = [&](double dtNext) {
     if (checkpointStep >= 0 || step_ != lastGood) return;
     checkpoint(dtNext, wall0);
@@ -121,8 +132,14 @@ void Simulation<Dim>::explainFailure(const StepFailure& failure, Clock::time_poi
     checkpointStep = step_;
   }
 
-  // The particle's history, and what it looked like when it failed. A restart that meets the
-  // same failure again leaves the first run's (longer) file alone.
+  return out;
+}
+
+// The particle's history, and what it looked like when it failed. A restart that meets the
+// same failure again leaves the first run's (longer) file alone.
+template <int Dim>
+void Simulation<Dim>::writeFailureHistory(const ParticleReport& f, const FailureReplay& replay) {
+  const std::vector<std::string>& rows = replay.rows;
   const std::string historyFile = fmt::format("failure_step{}_particle{}.csv", f.step, f.id);
   if (!rows.empty()) {
     parallel::onRoot<RunError>(mpi_.comm(), [&] {
@@ -138,6 +155,17 @@ void Simulation<Dim>::explainFailure(const StepFailure& failure, Clock::time_poi
       if (!out) throw RunError("cannot write " + (dir_ / historyFile).string());
     });
   }
+}
+
+// What failed, where, the files that show it, and what usually causes it.
+template <int Dim>
+std::string Simulation<Dim>::failureText(const StepFailure& failure,
+                                         const FailureReplay& replay) const {
+  const ParticleReport& f = failure.fault();
+  const std::vector<std::string>& rows = replay.rows;
+  const std::int64_t checkpointStep = replay.checkpointStep;
+  const std::string stem = fmt::format("failure_step{}_particle{}", f.step, f.id);
+  const std::string historyFile = stem + ".csv";
   if (f.material < 0) throw RunError(failure.what(), true); // no particle: nothing to explain
   const auto& material = deck_.materials.at(static_cast<std::size_t>(f.material));
   const auto& body = bodies_.at(static_cast<std::size_t>(f.body));
@@ -176,18 +204,18 @@ void Simulation<Dim>::explainFailure(const StepFailure& failure, Clock::time_poi
   signs.mpm = deck_.solver.method == "mpm";
   signs.asph = deck_.solver.method == "asph";
   signs.frictionless = deck_.solver.contact == Contact::Frictionless;
-  signs.nonFinite = nonFinite;
+  signs.nonFinite = f.kind == ParticleReport::Kind::NonFinite;
   signs.energy = f.kind == ParticleReport::Kind::Energy;
   signs.dimension = Dim;
   signs.compression = compression;
   signs.hRatio = hRatio;
   signs.speed = std::hypot(f.v[0], f.v[1], f.v[2]);
   signs.neighbors = static_cast<int>(f.neighbors);
-  signs.pMin = pMin;
+  signs.pMin = replay.pMin;
   signs.collapseFraction = kCollapse;
   signs.endTime = deck_.run.end_time;
   text += "\n  " + failureHint(signs);
-  throw RunError(text, true);
+  return text;
 }
 
 // The energy's books at each history row: the total against the initial energy (with the bodies

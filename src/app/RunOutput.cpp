@@ -227,7 +227,7 @@ template <int Dim> void Simulation<Dim>::writeSnapshot(bool write) {
     for (const auto& name : outputFields_) {
       const FieldInfo tensor{name, ScalarType::F64, {Dim, Dim}, kOutput};
       if (name == "smoothing") {
-        // H = I/h for SPH, the full tensor for ASPH (INTERFACE.md: the H tensor).
+        // H = I/h for SPH, the full tensor for ASPH (docs/reference.md: the H tensor).
         const auto h = store_[f_.h];
         const auto Hs = f_.anisotropic() ? store_[f_.H] : std::span<const Tensor<Dim>>{};
         // The rows buffer has no alignment guarantee for fixed-size Eigen types: write doubles.
@@ -389,19 +389,22 @@ template <int Dim> void Simulation<Dim>::banner(RunLog& log, const fs::path& dir
 
 // ---- the closing summary ----------------------------------------------------------------------
 
-template <int Dim>
-void Simulation<Dim>::finish(RunLog& log, const RunOptions& options, Clock::time_point wall0,
-                             int stopSignal) {
-  const auto& st = method_->stats();
-  const auto& phases = st.phases;
-  const double wall = std::chrono::duration<double>(Clock::now() - wall0).count();
-  // The stepping rate of this job: checkpoint writing is reported on its own line.
-  const std::int64_t steps = step_ - startStep_;
-  const double pSteps = static_cast<double>(particles()) * static_cast<double>(steps);
-  const double stepping = wall - phases[methods::kCheckpoint];
-  const double rate = stepping > 0.0 ? pSteps / stepping : 0.0;
+// What a run's end reports: its rate, conservation, memory and decomposition (over all ranks).
+template <int Dim> struct Simulation<Dim>::RunReport {
+  double wall = 0.0, rate = 0.0;
+  std::int64_t steps = 0;
+  double massErr = 0.0, momErr = 0.0, energyErr = 0.0;
+  std::size_t peak = 0, base = 0;
+  std::vector<std::pair<std::string, double>> memory; // bytes per particle, by part
+  double accounted = 0.0;
+  double ghostFraction = 0.0, meanNeighbors = 0.0;
+  std::uint64_t crossPairs = 0;
+};
+
+// Mass, momentum and total energy against their initial values, relative.
+template <int Dim> void Simulation<Dim>::conservationErrors(RunReport& r) const {
   const auto& t = last_;
-  const double massErr = std::abs(t.mass - totals0_.mass) / totals0_.mass;
+  r.massErr = std::abs(t.mass - totals0_.mass) / totals0_.mass;
   double momScale = 0.0, momErr = 0.0;
   // The components no unbooked force acts along: in rz the sum of m v_r is no conserved quantity
   // (the hoop force is radial), and a rigid wall's force (its images' pairs, the hold) is not
@@ -422,61 +425,88 @@ void Simulation<Dim>::finish(RunLog& log, const RunOptions& options, Clock::time
         totals0_.momentum[d] + method_->externalImpulse()[static_cast<std::size_t>(d)];
     momErr = std::max(momErr, std::abs(t.momentum[d] - expected));
   }
-  momErr = !anyJudged       ? std::numeric_limits<double>::quiet_NaN()
-           : momScale > 0.0 ? momErr / momScale
-                            : 0.0;
+  r.momErr = !anyJudged       ? std::numeric_limits<double>::quiet_NaN()
+             : momScale > 0.0 ? momErr / momScale
+                              : 0.0;
   // What the total energy should be: the initial one plus the work of external forces (a
   // confining pressure, damping), judged against the larger of it and the final one.
   const double e0 = totals0_.total(), work = method_->externalWork();
-  const double energyErr =
+  r.energyErr =
       std::abs(t.total() - e0 - work) / std::max({std::abs(e0), std::abs(t.total()), 1e-300});
-  const std::size_t peak =
-      static_cast<std::size_t>(mpi_.sum(static_cast<double>(peakResidentBytes())));
-  const std::size_t base = static_cast<std::size_t>(mpi_.sum(static_cast<double>(baselineRss_)));
+}
+
+// Collective: every rank calls it, in the same order of sums.
+template <int Dim>
+typename Simulation<Dim>::RunReport Simulation<Dim>::report(Clock::time_point wall0) {
+  const auto& st = method_->stats();
+  RunReport r;
+  r.wall = std::chrono::duration<double>(Clock::now() - wall0).count();
+  // The stepping rate of this job: checkpoint writing is reported on its own line.
+  r.steps = step_ - startStep_;
+  const double pSteps = static_cast<double>(particles()) * static_cast<double>(r.steps);
+  const double stepping = r.wall - st.phases[methods::kCheckpoint];
+  r.rate = stepping > 0.0 ? pSteps / stepping : 0.0;
+  conservationErrors(r);
+  r.peak = static_cast<std::size_t>(mpi_.sum(static_cast<double>(peakResidentBytes())));
+  r.base = static_cast<std::size_t>(mpi_.sum(static_cast<double>(baselineRss_)));
   const double pairs = mpi_.sum(static_cast<double>(st.pairs));
   // Memory by part: the bytes allocated where they live, over all ranks, per particle (the
   // process's other memory, MPI's and HDF5's buffers among it, is in the RSS only).
   std::vector<MemoryPart> parts = {{"particle_fields", store_.fieldBytes()}};
   for (auto& part : method_->memoryParts()) parts.push_back(std::move(part));
   parts.push_back({"rescue_copy", rescue_.rows.size()});
-  JsonObject memoryParts;
-  std::string memoryLine;
-  double accounted = 0.0;
   const double perParticle = 1.0 / std::max(1.0, static_cast<double>(particles()));
   for (const auto& part : parts) {
     const double b = mpi_.sum(static_cast<double>(part.bytes)) * perParticle;
-    accounted += b;
-    memoryParts.value(part.name, fmt::format("{:.1f}", b));
-    memoryLine += fmt::format("{}{} {:.0f}", memoryLine.empty() ? "" : ", ", part.name, b);
+    r.accounted += b;
+    r.memory.emplace_back(part.name, b);
   }
-  memoryParts.value("accounted", fmt::format("{:.1f}", accounted));
-  const double ghostFraction = mpi_.max(st.ghostFractionMax);
-  const std::uint64_t crossPairs = mpi_.sum(st.crossPairs) / 2;
-  const bool reproducible = deck_.decomposition.reproducible;
-  const double meanNeighbors =
-      st.evaluations > 0 ? pairs / (static_cast<double>(st.evaluations) *
-                                    std::max<double>(1.0, static_cast<double>(particles())))
-                         : 0.0;
+  r.ghostFraction = mpi_.max(st.ghostFractionMax);
+  r.crossPairs = mpi_.sum(st.crossPairs) / 2;
+  r.meanNeighbors = st.evaluations > 0
+                        ? pairs / (static_cast<double>(st.evaluations) *
+                                   std::max<double>(1.0, static_cast<double>(particles())))
+                        : 0.0;
+  return r;
+}
+
+template <int Dim>
+void Simulation<Dim>::finish(RunLog& log, const RunOptions& options, Clock::time_point wall0,
+                             int stopSignal) {
+  const RunReport r = report(wall0);
+  log.summary(summaryLines(r, options, stopSignal));
+  if (mpi_.root()) writeSummary(r, options, stopSignal);
+}
+
+// The lines a run ends with, on the terminal and in the log.
+template <int Dim>
+std::vector<std::string>
+Simulation<Dim>::summaryLines(const RunReport& r, const RunOptions& options, int stopSignal) const {
+  const auto& st = method_->stats();
   // The share of each stepping phase (checkpoints have their own line).
   std::string shares;
   for (int p = 0; p < methods::kCheckpoint; ++p)
     shares += fmt::format("{}{} {:.1f}%", p ? " " : "", methods::kPhaseNames[p],
-                          100 * phases[static_cast<methods::Phase>(p)] / wall);
+                          100 * st.phases[static_cast<methods::Phase>(p)] / r.wall);
+  std::string memoryLine;
+  for (const auto& [name, b] : r.memory)
+    memoryLine += fmt::format("{}{} {:.0f}", memoryLine.empty() ? "" : ", ", name, b);
   std::vector<std::string> lines = {
       fmt::format("{}: {} steps to t = {:.6g} s (step {}) in {:.2f} s wall | {:.3g} "
                   "particle-steps/s ({:.3g} per core)",
-                  stopSignal ? "stopped" : "done", steps, time_, step_, wall, rate, rate / cores()),
+                  stopSignal ? "stopped" : "done", r.steps, time_, step_, r.wall, r.rate,
+                  r.rate / cores()),
       fmt::format(
-          "conservation: mass {:.1e} | momentum {} | total energy {:.1e} (relative)", massErr,
-          std::isnan(momErr) ? std::string("n/a (rigid walls)") : fmt::format("{:.1e}", momErr),
-          energyErr),
+          "conservation: mass {:.1e} | momentum {} | total energy {:.1e} (relative)", r.massErr,
+          std::isnan(r.momErr) ? std::string("n/a (rigid walls)") : fmt::format("{:.1e}", r.momErr),
+          r.energyErr),
       "time: " + shares};
   if (st.listBuilds > 0)
     lines.push_back(fmt::format("neighbors: {:.1f} per particle, searched {} times in {} "
                                 "evaluations (skin {:g})",
-                                meanNeighbors, st.listBuilds, st.evaluations,
+                                r.meanNeighbors, st.listBuilds, st.evaluations,
                                 deck_.solver.neighbor_skin));
-  lines.push_back(fmt::format("memory: {:.0f} B/particle allocated ({})", accounted, memoryLine));
+  lines.push_back(fmt::format("memory: {:.0f} B/particle allocated ({})", r.accounted, memoryLine));
   if (checkpointsWritten_ > 0)
     lines.push_back(fmt::format(
         "checkpoints: {} written, {:.1f} MB each ({:.0f} B/particle), {:.2f} s in all "
@@ -496,17 +526,26 @@ void Simulation<Dim>::finish(RunLog& log, const RunOptions& options, Clock::time
         "{:.1f}% of a rank's particles, {} pairs across ranks | {} migrations, up to {} ranks in "
         "one step{}",
         deck_.decomposition.curve, deck_.decomposition.partitioner, mpi_.size(), st.rebalances,
-        st.imbalance, 100.0 * ghostFraction, crossPairs, st.migratedTotal, st.maxRankDistance,
+        st.imbalance, 100.0 * r.ghostFraction, r.crossPairs, st.migratedTotal, st.maxRankDistance,
         st.metisEdgeCut >= 0 ? fmt::format(" | METIS edge cut {} pairs", st.metisEdgeCut) : ""));
   lines.push_back(
       fmt::format("output in {} (open snapshots/series.xmf in ParaView)", dir_.string()));
-  log.summary(lines);
-  if (!mpi_.root()) return;
+  return lines;
+}
 
+// summary.json (rank 0).
+template <int Dim>
+void Simulation<Dim>::writeSummary(const RunReport& r, const RunOptions& options,
+                                   int stopSignal) const {
+  const auto& st = method_->stats();
+  const auto& phases = st.phases;
+  JsonObject memoryParts;
+  for (const auto& [name, b] : r.memory) memoryParts.value(name, fmt::format("{:.1f}", b));
+  memoryParts.value("accounted", fmt::format("{:.1f}", r.accounted));
   JsonObject phaseSeconds;
   for (int p = 0; p < methods::kPhaseCount; ++p)
     phaseSeconds.value(methods::kPhaseNames[p], fixed6(phases[static_cast<methods::Phase>(p)]));
-  phaseSeconds.value("other", fixed6(std::max(0.0, wall - phases.total())));
+  phaseSeconds.value("other", fixed6(std::max(0.0, r.wall - phases.total())));
   JsonObject checkpoint;
   checkpoint.value("written", fmt::format("{}", checkpointsWritten_))
       .value("bytes", fmt::format("{}", checkpointBytes_))
@@ -524,16 +563,16 @@ void Simulation<Dim>::finish(RunLog& log, const RunOptions& options, Clock::time
       .text("partitioner", deck_.decomposition.partitioner)
       .value("rebalances", fmt::format("{}", st.rebalances))
       .value("imbalance", fixed6(st.imbalance))
-      .value("ghost_fraction_max", fixed6(ghostFraction))
+      .value("ghost_fraction_max", fixed6(r.ghostFraction))
       .value("migrated", fmt::format("{}", st.migratedTotal))
       .value("max_rank_distance", fmt::format("{}", st.maxRankDistance))
-      .value("pairs_across_ranks", fmt::format("{}", crossPairs))
+      .value("pairs_across_ranks", fmt::format("{}", r.crossPairs))
       .value("metis_edge_cut", fmt::format("{}", st.metisEdgeCut))
-      .value("reproducible", reproducible ? "true" : "false");
+      .value("reproducible", deck_.decomposition.reproducible ? "true" : "false");
   JsonObject conservation;
-  conservation.value("mass_relative", fmt::format("{:.6e}", massErr))
-      .value("momentum_relative", std::isnan(momErr) ? "null" : fmt::format("{:.6e}", momErr))
-      .value("energy_relative", fmt::format("{:.6e}", energyErr));
+  conservation.value("mass_relative", fmt::format("{:.6e}", r.massErr))
+      .value("momentum_relative", std::isnan(r.momErr) ? "null" : fmt::format("{:.6e}", r.momErr))
+      .value("energy_relative", fmt::format("{:.6e}", r.energyErr));
   JsonObject summary;
   summary.text("deck", options.deckPath)
       .text("title", deck_.run.title)
@@ -543,19 +582,19 @@ void Simulation<Dim>::finish(RunLog& log, const RunOptions& options, Clock::time
       .value("particles", fmt::format("{}", particles()))
       .value("steps", fmt::format("{}", step_))
       .value("time", fmt::format("{:.17g}", time_))
-      .value("wall_seconds", fixed6(wall))
-      .value("particle_steps_per_second", fmt::format("{:.6g}", rate))
-      .value("particle_steps_per_second_per_core", fmt::format("{:.6g}", rate / cores()))
+      .value("wall_seconds", fixed6(r.wall))
+      .value("particle_steps_per_second", fmt::format("{:.6g}", r.rate))
+      .value("particle_steps_per_second_per_core", fmt::format("{:.6g}", r.rate / cores()))
       .text("status", stopSignal ? "stopped" : "finished")
-      .value("steps_this_run", fmt::format("{}", steps))
-      .value("mean_neighbors", fmt::format("{:.3f}", meanNeighbors))
+      .value("steps_this_run", fmt::format("{}", r.steps))
+      .value("mean_neighbors", fmt::format("{:.3f}", r.meanNeighbors))
       .value("neighbor_searches", fmt::format("{}", st.listBuilds))
       .value("evaluations", fmt::format("{}", st.evaluations))
-      .value("peak_rss_bytes", fmt::format("{}", peak))
-      .value("baseline_rss_bytes", fmt::format("{}", base))
+      .value("peak_rss_bytes", fmt::format("{}", r.peak))
+      .value("baseline_rss_bytes", fmt::format("{}", r.base))
       .value("bytes_per_particle",
              fmt::format("{:.1f}", particles() > 0
-                                       ? static_cast<double>(peak - std::min(peak, base)) /
+                                       ? static_cast<double>(r.peak - std::min(r.peak, r.base)) /
                                              static_cast<double>(particles())
                                        : 0.0))
       .object("memory_parts", memoryParts)

@@ -24,6 +24,7 @@
 #include <chrono>
 #include <deque>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <string>
 #include <utility>
@@ -80,6 +81,14 @@ private:
   // RunFailure.cpp
   void keepRescuePoint(double dtNext, Clock::time_point wall0);
   [[noreturn]] void explainFailure(const StepFailure& failure, Clock::time_point wall0);
+  struct FailureReplay {
+    std::vector<std::string> rows;                         // the failure's history, a step a row
+    double pMin = std::numeric_limits<double>::infinity(); // the particle's, over good steps
+    std::int64_t checkpointStep = -1; // the last good state's checkpoint, or -1
+  };
+  FailureReplay replayFailure(const StepFailure& failure, Clock::time_point wall0);
+  void writeFailureHistory(const ParticleReport& f, const FailureReplay& replay);
+  std::string failureText(const StepFailure& failure, const FailureReplay& replay) const;
   void watchTimeStep(double dt);
   void watchEnergy(double dt);
   // Simulation.cpp: checkpoint state
@@ -97,6 +106,12 @@ private:
   void banner(RunLog& log, const std::filesystem::path& dir);
   // RunOutput.cpp: the closing summary
   void finish(RunLog& log, const RunOptions& options, Clock::time_point wall0, int stopSignal);
+  struct RunReport; // RunOutput.cpp
+  RunReport report(Clock::time_point wall0);
+  void conservationErrors(RunReport& r) const;
+  std::vector<std::string> summaryLines(const RunReport& r, const RunOptions& options,
+                                        int stopSignal) const;
+  void writeSummary(const RunReport& r, const RunOptions& options, int stopSignal) const;
 
   const Deck& deck_;
   const parallel::MpiContext& mpi_;

@@ -269,278 +269,256 @@ private:
 template <int Dim> void sortRows(NeighborList& nl, const CanonicalOrder<Dim>& order, std::size_t n);
 
 namespace detail {
-template <int Dim, bool Ellipsoidal>
-void buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
-                       std::span<const Tensor<Dim>> H, std::size_t owned, double support,
-                       CellGrid<Dim>& grid, NeighborList& out, const CanonicalOrder<Dim>* order) {
-  const std::size_t n = x.size();
-  double hRef = 1.0;
-  if (n > 0) {
-    std::vector<double> hs(h.begin(), h.begin() + static_cast<std::ptrdiff_t>(n));
-    std::nth_element(hs.begin(), hs.begin() + static_cast<std::ptrdiff_t>(hs.size() / 2), hs.end());
-    if (hs[hs.size() / 2] > 0.0) hRef = hs[hs.size() / 2];
-  }
-  std::vector<double> radius(n);
-  for (std::size_t a = 0; a < n; ++a) radius[a] = support * h[a];
-  // Cells of half the typical support: a (5 cells)^Dim block covers it with fewer candidates
-  // than (3 cells of a full support)^Dim.
-  grid.build(x, 0.5 * support * hRef, radius);
-  const double cell = grid.cellSize();
-  const auto members = grid.members();
-  const auto xs = grid.sortedX();
-  [[maybe_unused]] const auto rs = grid.sortedRadius();
-  // Ellipsoidal supports: the metric G = H^T H of every particle (|H x|^2 = x . G x), in member
-  // order for the scatter test, and the half-widths of each support's bounding box,
-  // support sqrt((G^-1)_dd), which set the block of cells searched.
-  // Also the square of an inscribed sphere's radius, support / |H|_inf (|H|_inf, the largest
-  // absolute row sum, bounds the largest eigenvalue): inside it a particle is covered without
-  // evaluating the quadratic form, which then remains for the thin shell between the spheres.
-  // (Both sides of a pair evaluate these with the same expressions, so they agree bit for bit.)
-  const auto innerRadius2 = [support](const Tensor<Dim>& Hm) {
-    const double rin = support / Hm.cwiseAbs().rowwise().sum().maxCoeff();
-    return rin * rin;
-  };
-  std::vector<Tensor<Dim>> Gs;
-  std::vector<double> inner2s;
-  if constexpr (Ellipsoidal) {
-    Gs.resize(n);
-    inner2s.resize(n);
-    for (std::size_t m = 0; m < n; ++m) {
-      const Tensor<Dim>& Hm = H[members[m]];
-      Gs[m] = Hm.transpose() * Hm;
-      inner2s[m] = innerRadius2(Hm);
+// A chunk of consecutive rows of a search: its rows go into its region of the list (units),
+// sized from the last build's rows in the same places; what does not fit spills into a vector of
+// its own (joined in place by joinChunks). It also keeps the pairs it found from the other side.
+struct ListChunk {
+  std::uint64_t start = 0, capacity = 0, used = 0, entries = 0;
+  std::uint16_t* region = nullptr;
+  std::vector<std::uint16_t> spill;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> extra; // (owned i, j reaching i)
+  // Encodes a row; returns its base. (Once a row has spilled, all that follow it do: the rows
+  // stay in order.)
+  std::uint32_t append(const std::uint32_t* row, std::size_t length, std::uint32_t lo,
+                       std::uint32_t hi) {
+    const std::uint32_t b = length > 0 ? NeighborList::baseOf(lo, hi) : 0;
+    const std::size_t u = NeighborList::unitsOf(b, length);
+    entries += length;
+    if (spill.empty() && used + u <= capacity) {
+      NeighborList::encode(row, length, b, region + used);
+      used += u;
+    } else {
+      const std::size_t at = spill.size();
+      spill.resize(at + u);
+      NeighborList::encode(row, length, b, spill.data() + at);
     }
+    return b;
   }
-  const double support2 = support * support;
-  // The last build's rows estimate each chunk's share below.
-  std::vector<std::uint64_t> previous;
-  previous.swap(out.offsets);
-  out.counts.clear(); // whole rows, as searched
-  out.offsets.assign(owned + 1, 0);
-  out.base.assign(owned, 0);
-  // The particles are searched in chunks of consecutive a, in parallel (core/Threads.hpp); each
-  // chunk keeps its rows and its pairs found from the other side, and the chunks are then joined
-  // in order: the lists come out as one sequential pass makes them, on any thread count.
-  const int threads = threadCount();
-  const std::size_t chunks =
-      threads == 1 || !threaded(n) ? 1 : 32 * static_cast<std::size_t>(threads);
-  // A chunk's rows go into its region of the list (units), sized from the last build's rows in
-  // the same places; what does not fit spills into a vector of its own (joined in place below).
-  struct Chunk {
-    std::uint64_t start = 0, capacity = 0, used = 0, entries = 0;
-    std::uint16_t* region = nullptr;
-    std::vector<std::uint16_t> spill;
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> extra; // (owned i, j reaching i)
-    // Encodes a row; returns its base. (Once a row has spilled, all that follow it do: the rows
-    // stay in order.)
-    std::uint32_t append(const std::uint32_t* row, std::size_t length, std::uint32_t lo,
-                         std::uint32_t hi) {
-      const std::uint32_t b = length > 0 ? NeighborList::baseOf(lo, hi) : 0;
-      const std::size_t u = NeighborList::unitsOf(b, length);
-      entries += length;
-      if (spill.empty() && used + u <= capacity) {
-        NeighborList::encode(row, length, b, region + used);
-        used += u;
-      } else {
-        const std::size_t at = spill.size();
-        spill.resize(at + u);
-        NeighborList::encode(row, length, b, spill.data() + at);
-      }
-      return b;
-    }
-    std::size_t size() const { return used + spill.size(); }
-  };
-  std::vector<Chunk> parts(chunks);
-  const auto cellOf = grid.cellOf();
-  const auto search = [&](std::size_t aBegin, std::size_t aEnd, Chunk& chunk) {
+  std::size_t size() const { return used + spill.size(); }
+};
+using OtherSide = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
+
+// The square of an inscribed sphere's radius of an ellipsoidal support, support / |H|_inf
+// (|H|_inf, the largest absolute row sum, bounds the largest eigenvalue): inside it a particle is
+// covered without evaluating the quadratic form, which then remains for the thin shell between
+// the spheres. (Both sides of a pair evaluate it with the same expressions, so they agree bit for
+// bit.)
+template <int Dim> double innerRadius2(const Tensor<Dim>& Hm, double support) {
+  const double rin = support / Hm.cwiseAbs().rowwise().sum().maxCoeff();
+  return rin * rin;
+}
+
+// The gathers of particles [aBegin, aEnd) on the grid: each particle's row (owned ones), and
+// the pairs only the other side reaches (ListChunk::extra).
+template <int Dim, bool Ellipsoidal> struct ChunkSearch {
+  std::span<const Vec<Dim>> x;
+  std::span<const Tensor<Dim>> H;
+  std::size_t owned;
+  double support;
+  const CellGrid<Dim>& grid;
+  const std::vector<double>& radius;
+  // Ellipsoidal supports: the metric G = H^T H of every particle (|H x|^2 = x . G x) and the
+  // inscribed spheres' squared radii, in member order for the scatter test.
+  const std::vector<Tensor<Dim>>& Gs;
+  const std::vector<double>& inner2s;
+  NeighborList& out;
+
+  void operator()(std::size_t aBegin, std::size_t aEnd, ListChunk& chunk) const {
     std::vector<std::uint32_t> hit, row; // member positions within reach; a's row
     std::vector<double> hitR2;
     for (std::size_t a = aBegin; a < aEnd; ++a) {
-      const Vec<Dim> xa = x[a];
-      // (For ellipsoids the sphere is only a first cut, a little wider so that the ellipsoid
-      // test alone decides: h and H agree to rounding only.)
-      const double ra = radius[a], ra2 = ra * ra * (Ellipsoidal ? 1.0 + 1e-9 : 1.0);
-      std::array<std::int64_t, 3> reach{0, 0, 0};
-      [[maybe_unused]] Tensor<Dim> Ga;
-      if constexpr (Ellipsoidal) {
-        Ga = H[a].transpose() * H[a];
-        const Tensor<Dim> Ginv = Ga.inverse();
-        // (A broken H, non-finite, searches the whole grid and finds nothing: the run's
-        // finiteness check reports the particle.)
-        for (int d = 0; d < Dim; ++d) {
-          const double cells = std::ceil(support * std::sqrt(Ginv(d, d)) / cell);
-          reach[d] = cells < 1e9 ? static_cast<std::int64_t>(cells) : std::int64_t{1000000000};
-        }
-      } else {
-        reach.fill(static_cast<std::int64_t>(std::ceil(ra / cell)));
-      }
-      // Branch-free compaction of the candidates within reach (about a quarter of the block in
-      // 3D, so a taken/not-taken branch per candidate would mispredict often).
-      std::size_t found = 0;
-      grid.forEachRangeNear(cellOf[a], reach, [&](std::uint32_t b, std::uint32_t e) {
-        if (hit.size() < found + (e - b))
-          hit.resize(2 * (found + (e - b))), hitR2.resize(hit.size());
-        for (std::uint32_t m = b; m < e; ++m) {
-          const Vec<Dim> d = xa - xs[m];
-          hit[found] = m;
-          const double r2 = d.squaredNorm();
-          hitR2[found] = r2;
-          found += r2 < ra2;
-        }
-      });
-      if constexpr (Ellipsoidal) {
-        // The enclosing sphere above (radius: the longest axis) was the cheap first cut; now the
-        // ellipsoid itself, on the few that passed.
-        const double inner2 = innerRadius2(H[a]);
-        std::size_t kept = 0;
-        for (std::size_t k = 0; k < found; ++k) {
-          const std::uint32_t m = hit[k];
-          bool in = hitR2[k] < inner2;
-          if (!in) {
-            const Vec<Dim> d = xa - xs[m];
-            in = d.dot(Ga * d) < support2;
-          }
-          hit[kept] = m;
-          hitR2[kept] = hitR2[k];
-          kept += in;
-        }
-        found = kept;
-      }
-      const bool aOwned = a < owned;
+      const std::size_t found = candidates(a, hit, hitR2);
       if (row.size() < found) row.resize(hit.size());
       std::size_t length = 0;
       std::uint32_t lo = std::numeric_limits<std::uint32_t>::max(), hi = 0; // the row's span
+      const auto members = grid.members();
       for (std::size_t k = 0; k < found; ++k) {
         const std::uint32_t m = hit[k], b = members[m];
         if (b == a) continue;
         row[length++] = b;
         lo = std::min(lo, b), hi = std::max(hi, b);
-        // b does not reach a itself: its row gets a from this side. (For ellipsoids the test is
-        // b's gather test evaluated again here; should rounding ever decide a pair at exactly
-        // |H x| = support differently from the two sides, the pair sits where W and W' vanish.)
-        bool bReaches;
-        if constexpr (Ellipsoidal) {
-          if (hitR2[k] < inner2s[m]) {
-            bReaches = true;
-          } else if (hitR2[k] >= rs[m] * rs[m] * (1.0 + 1e-9)) {
-            bReaches = false; // outside b's enclosing sphere
-          } else {
-            const Vec<Dim> d = xa - xs[m];
-            bReaches = d.dot(Gs[m] * d) < support2;
-          }
-        } else {
-          bReaches = hitR2[k] < rs[m] * rs[m];
-        }
-        if (b < owned && !bReaches) chunk.extra.emplace_back(b, static_cast<std::uint32_t>(a));
+        if (b < owned && !reachesBack(a, m, hitR2[k]))
+          chunk.extra.emplace_back(b, static_cast<std::uint32_t>(a));
       }
       // The row, appended whole; its end relative to the chunk's first row (made absolute when
       // joined).
-      if (aOwned) {
+      if (a < owned) {
         out.base[a] = chunk.append(row.data(), length, lo, hi);
         out.offsets[a + 1] = chunk.size();
       }
     }
-  };
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> extra;
-  // The first build has no rows to size the regions by: every stride-th row, searched alone,
-  // gives the mean row, and the regions are sized by it (what does not fit spills). A list
-  // grown as a vector would hold up to twice its size while it grows (sedov_3d: 40% of the
-  // run's peak memory).
-  if (owned > 0 && (previous.size() < 2 || previous.back() == 0)) {
-    const std::size_t stride = std::max<std::size_t>(1, owned / 512);
-    Chunk probe;
-    std::size_t sampled = 0;
-    for (std::size_t a = 0; a < owned; a += stride, ++sampled) search(a, a + 1, probe);
-    const double mean = static_cast<double>(probe.size()) / static_cast<double>(sampled);
-    previous.resize(owned + 1);
-    for (std::size_t a = 0; a <= owned; ++a)
-      previous[a] = static_cast<std::uint64_t>(mean * static_cast<double>(a));
   }
-  // Without owned rows, all of it is one spill that becomes the list. Else rows go into
-  // regions, on one thread too (a row goes into a region with one copy: faster than into a
-  // growing vector).
-  if (owned == 0) {
-    Chunk all;
-    all.spill.swap(out.units);
-    all.spill.clear();
-    search(0, n, all);
-    out.units.swap(all.spill);
-    out.entries = all.entries;
-    extra.swap(all.extra);
-  } else {
-    const std::size_t before = previous.size() - 1; // last build's owned rows
-    const double perRow = static_cast<double>(previous.back()) / static_cast<double>(before);
-    std::uint64_t total = 0;
-    for (std::size_t c = 0; c < chunks; ++c) {
-      const std::size_t b = std::min(chunkBegin(n, chunks, c), owned);
-      const std::size_t e = std::min(chunkBegin(n, chunks, c + 1), owned);
-      const std::size_t bb = std::min(b, before), eb = std::min(e, before);
-      const double estimate = static_cast<double>(previous[eb] - previous[bb]) +
-                              perRow * static_cast<double>(e - b - (eb - bb));
-      parts[c].start = total;
-      parts[c].capacity = static_cast<std::uint64_t>(1.03 * estimate) + 64 * (e > b);
-      total += parts[c].capacity;
-    }
-    // Room to grow by a fifth (reserved, not touched) before the list moves: spills are joined in
-    // place up to it.
-    if (out.units.capacity() < total) {
-      std::vector<std::uint16_t>().swap(out.units);
-      out.units.reserve(total + total / 5);
-    }
-    out.units.resize(total); // (only what lies past the last build's pairs is written here)
-    for (auto& part : parts) part.region = out.units.data() + part.start;
-    // (An exception must not leave a parallel region: a failed allocation is carried out.)
-    std::exception_ptr failure;
-#pragma omp parallel for schedule(dynamic, 1) if (threaded(n))
-    for (std::size_t c = 0; c < chunks; ++c) {
-      try {
-        search(chunkBegin(n, chunks, c), chunkBegin(n, chunks, c + 1), parts[c]);
-      } catch (...) {
-#pragma omp critical(spall_neighbor_failure)
-        if (!failure) failure = std::current_exception();
+
+  // The member positions within a's support, and their squared distances: the first `found`
+  // entries of hit and hitR2.
+  std::size_t candidates(std::size_t a, std::vector<std::uint32_t>& hit,
+                         std::vector<double>& hitR2) const {
+    const Vec<Dim> xa = x[a];
+    const double cell = grid.cellSize();
+    const auto xs = grid.sortedX();
+    // (For ellipsoids the sphere is only a first cut, a little wider so that the ellipsoid
+    // test alone decides: h and H agree to rounding only.)
+    const double ra = radius[a], ra2 = ra * ra * (Ellipsoidal ? 1.0 + 1e-9 : 1.0);
+    std::array<std::int64_t, 3> reach{0, 0, 0};
+    [[maybe_unused]] Tensor<Dim> Ga;
+    if constexpr (Ellipsoidal) {
+      // The half-widths of the support's bounding box, support sqrt((G^-1)_dd), set the block
+      // of cells searched.
+      Ga = H[a].transpose() * H[a];
+      const Tensor<Dim> Ginv = Ga.inverse();
+      // (A broken H, non-finite, searches the whole grid and finds nothing: the run's
+      // finiteness check reports the particle.)
+      for (int d = 0; d < Dim; ++d) {
+        const double cells = std::ceil(support * std::sqrt(Ginv(d, d)) / cell);
+        reach[d] = cells < 1e9 ? static_cast<std::int64_t>(cells) : std::int64_t{1000000000};
       }
+    } else {
+      reach.fill(static_cast<std::int64_t>(std::ceil(ra / cell)));
     }
-    if (failure) std::rethrow_exception(failure);
-    // Join in place: chunk c's rows (its region, then its spill) go to base[c], right after the
-    // chunk before. Chunks that move up are placed first, the last first, then those that move
-    // down, the first first: no chunk's destination then covers rows not yet moved (each
-    // destination ends where the next chunk's begins, and a chunk moving down begins at or
-    // below its region). Memory: the list once, grown only by what all chunks spilled in all.
-    std::vector<std::uint64_t> base(chunks + 1, 0);
-    std::size_t extras = 0;
-    out.entries = 0;
-    for (std::size_t c = 0; c < chunks; ++c) {
-      base[c + 1] = base[c] + parts[c].size();
-      extras += parts[c].extra.size();
-      out.entries += parts[c].entries;
+    // Branch-free compaction of the candidates within reach (about a quarter of the block in
+    // 3D, so a taken/not-taken branch per candidate would mispredict often).
+    std::size_t found = 0;
+    grid.forEachRangeNear(grid.cellOf()[a], reach, [&](std::uint32_t b, std::uint32_t e) {
+      if (hit.size() < found + (e - b)) hit.resize(2 * (found + (e - b))), hitR2.resize(hit.size());
+      for (std::uint32_t m = b; m < e; ++m) {
+        const Vec<Dim> d = xa - xs[m];
+        hit[found] = m;
+        const double r2 = d.squaredNorm();
+        hitR2[found] = r2;
+        found += r2 < ra2;
+      }
+    });
+    if constexpr (Ellipsoidal) {
+      // The enclosing sphere above (radius: the longest axis) was the cheap first cut; now the
+      // ellipsoid itself, on the few that passed.
+      const double inner2 = innerRadius2<Dim>(H[a], support), support2 = support * support;
+      std::size_t kept = 0;
+      for (std::size_t k = 0; k < found; ++k) {
+        const std::uint32_t m = hit[k];
+        bool in = hitR2[k] < inner2;
+        if (!in) {
+          const Vec<Dim> d = xa - xs[m];
+          in = d.dot(Ga * d) < support2;
+        }
+        hit[kept] = m;
+        hitR2[kept] = hitR2[k];
+        kept += in;
+      }
+      found = kept;
     }
-    if (base[chunks] > out.units.size()) resizeWithHeadroom(out.units, base[chunks]);
-    std::uint16_t* list = out.units.data();
-    const auto place = [&](std::size_t c) {
-      std::memmove(list + base[c], list + parts[c].start, parts[c].used * sizeof(std::uint16_t));
-      std::copy(parts[c].spill.begin(), parts[c].spill.end(), list + base[c] + parts[c].used);
-    };
-    for (std::size_t c = chunks; c-- > 0;)
-      if (base[c] > parts[c].start) place(c);
-    for (std::size_t c = 0; c < chunks; ++c)
-      if (base[c] <= parts[c].start) place(c);
-    out.units.resize(base[chunks]);
+    return found;
+  }
+
+  // Whether member m (at squared distance r2 from a) reaches a itself; if not, its row gets a
+  // from this side. (For ellipsoids the test is m's gather test evaluated again here; should
+  // rounding ever decide a pair at exactly |H x| = support differently from the two sides, the
+  // pair sits where W and W' vanish.)
+  bool reachesBack(std::size_t a, std::uint32_t m, double r2) const {
+    const auto rs = grid.sortedRadius();
+    if constexpr (Ellipsoidal) {
+      if (r2 < inner2s[m]) return true;
+      if (r2 >= rs[m] * rs[m] * (1.0 + 1e-9)) return false; // outside m's enclosing sphere
+      const Vec<Dim> d = x[a] - grid.sortedX()[m];
+      return d.dot(Gs[m] * d) < support * support;
+    } else {
+      return r2 < rs[m] * rs[m];
+    }
+  }
+};
+
+// The first build has no rows to size the regions by: every stride-th row, searched alone,
+// gives the mean row, and the regions are sized by it (what does not fit spills). A list grown
+// as a vector would hold up to twice its size while it grows (sedov_3d: 40% of the run's peak
+// memory).
+template <class Search>
+void estimateFirstRows(const Search& search, std::size_t owned,
+                       std::vector<std::uint64_t>& previous) {
+  const std::size_t stride = std::max<std::size_t>(1, owned / 512);
+  ListChunk probe;
+  std::size_t sampled = 0;
+  for (std::size_t a = 0; a < owned; a += stride, ++sampled) search(a, a + 1, probe);
+  const double mean = static_cast<double>(probe.size()) / static_cast<double>(sampled);
+  previous.resize(owned + 1);
+  for (std::size_t a = 0; a <= owned; ++a)
+    previous[a] = static_cast<std::uint64_t>(mean * static_cast<double>(a));
+}
+
+// Each chunk's region of the list, sized from the last build's rows (`previous`) in the same
+// places; the list reserved for them all.
+inline void placeRegions(std::vector<ListChunk>& parts, const std::vector<std::uint64_t>& previous,
+                         std::size_t n, std::size_t owned, NeighborList& out) {
+  const std::size_t chunks = parts.size();
+  const std::size_t before = previous.size() - 1; // last build's owned rows
+  const double perRow = static_cast<double>(previous.back()) / static_cast<double>(before);
+  std::uint64_t total = 0;
+  for (std::size_t c = 0; c < chunks; ++c) {
+    const std::size_t b = std::min(chunkBegin(n, chunks, c), owned);
+    const std::size_t e = std::min(chunkBegin(n, chunks, c + 1), owned);
+    const std::size_t bb = std::min(b, before), eb = std::min(e, before);
+    const double estimate = static_cast<double>(previous[eb] - previous[bb]) +
+                            perRow * static_cast<double>(e - b - (eb - bb));
+    parts[c].start = total;
+    parts[c].capacity = static_cast<std::uint64_t>(1.03 * estimate) + 64 * (e > b);
+    total += parts[c].capacity;
+  }
+  // Room to grow by a fifth (reserved, not touched) before the list moves: spills are joined in
+  // place up to it.
+  if (out.units.capacity() < total) {
+    std::vector<std::uint16_t>().swap(out.units);
+    out.units.reserve(total + total / 5);
+  }
+  out.units.resize(total); // (only what lies past the last build's pairs is written here)
+  for (auto& part : parts) part.region = out.units.data() + part.start;
+}
+
+// Join in place: chunk c's rows (its region, then its spill) go to base[c], right after the chunk
+// before. Chunks that move up are placed first, the last first, then those that move down, the
+// first first: no chunk's destination then covers rows not yet moved (each destination ends
+// where the next chunk's begins, and a chunk moving down begins at or below its region).
+// Memory: the list once, grown only by what all chunks spilled in all. Returns the chunks' pairs
+// found from the other side, in order.
+inline OtherSide joinChunks(std::vector<ListChunk>& parts, std::size_t n, std::size_t owned,
+                            NeighborList& out) {
+  const std::size_t chunks = parts.size();
+  std::vector<std::uint64_t> base(chunks + 1, 0);
+  std::size_t extras = 0;
+  out.entries = 0;
+  for (std::size_t c = 0; c < chunks; ++c) {
+    base[c + 1] = base[c] + parts[c].size();
+    extras += parts[c].extra.size();
+    out.entries += parts[c].entries;
+  }
+  if (base[chunks] > out.units.size()) resizeWithHeadroom(out.units, base[chunks]);
+  std::uint16_t* list = out.units.data();
+  const auto place = [&](std::size_t c) {
+    std::memmove(list + base[c], list + parts[c].start, parts[c].used * sizeof(std::uint16_t));
+    std::copy(parts[c].spill.begin(), parts[c].spill.end(), list + base[c] + parts[c].used);
+  };
+  for (std::size_t c = chunks; c-- > 0;)
+    if (base[c] > parts[c].start) place(c);
+  for (std::size_t c = 0; c < chunks; ++c)
+    if (base[c] <= parts[c].start) place(c);
+  out.units.resize(base[chunks]);
 #pragma omp parallel for schedule(static) if (threaded(n))
-    for (std::size_t c = 0; c < chunks; ++c) {
-      const std::size_t b = std::min(chunkBegin(n, chunks, c), owned);
-      const std::size_t e = std::min(chunkBegin(n, chunks, c + 1), owned);
-      for (std::size_t a = b; a < e; ++a) out.offsets[a + 1] += base[c];
-    }
-    extra.reserve(extras);
-    for (std::size_t c = 0; c < chunks; ++c)
-      extra.insert(extra.end(), parts[c].extra.begin(), parts[c].extra.end());
+  for (std::size_t c = 0; c < chunks; ++c) {
+    const std::size_t b = std::min(chunkBegin(n, chunks, c), owned);
+    const std::size_t e = std::min(chunkBegin(n, chunks, c + 1), owned);
+    for (std::size_t a = b; a < e; ++a) out.offsets[a + 1] += base[c];
   }
-  if (extra.empty()) {
-    if (order) sortRows<Dim>(out, *order, n);
-    return;
-  }
-  // Group the pairs found from the other side by their owned particle with a counting sort (they
-  // were found in increasing j, so each group is already sorted by j).
+  OtherSide extra;
+  extra.reserve(extras);
+  for (std::size_t c = 0; c < chunks; ++c)
+    extra.insert(extra.end(), parts[c].extra.begin(), parts[c].extra.end());
+  return extra;
+}
+
+// The pairs found from the other side, merged into their owned rows: grouped by their owned
+// particle with a counting sort (they were found in increasing j, so each group is already
+// sorted by j), then merged in place, each row's own gathers first, then its group. A row that
+// gains pairs may need more units (more pairs; a wider span): first each row's new base and
+// units, then rows moved back to front to their places (a row's new place is never before its
+// old one: no row grows shorter).
+inline void mergeOtherSide(NeighborList& out, std::size_t owned, const OtherSide& extra) {
   std::vector<std::uint32_t> groupStart(owned + 1, 0);
   for (const auto& [i, j] : extra) ++groupStart[i + 1];
   for (std::size_t i = 0; i < owned; ++i) groupStart[i + 1] += groupStart[i];
@@ -549,10 +527,6 @@ void buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
     std::vector<std::uint32_t> fill(groupStart.begin(), groupStart.end() - 1);
     for (const auto& [i, j] : extra) grouped[fill[i]++] = j;
   }
-  // Merge them into the rows in place, each row's own gathers first, then its group. A row that
-  // gains pairs may need more units (more pairs; a wider span): first each row's new base and
-  // units, then rows moved back to front to their places (a row's new place is never before its
-  // old one: no row grows shorter).
   std::vector<std::uint64_t> at(owned + 1, 0);
   std::vector<std::uint32_t> newBase(out.base);
 #pragma omp parallel for schedule(dynamic, 256) if (threaded(owned))
@@ -584,6 +558,81 @@ void buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
   out.offsets.swap(at);
   out.base.swap(newBase);
   out.entries += extra.size();
+}
+
+template <int Dim, bool Ellipsoidal>
+void buildNeighborList(std::span<const Vec<Dim>> x, std::span<const double> h,
+                       std::span<const Tensor<Dim>> H, std::size_t owned, double support,
+                       CellGrid<Dim>& grid, NeighborList& out, const CanonicalOrder<Dim>* order) {
+  const std::size_t n = x.size();
+  double hRef = 1.0;
+  if (n > 0) {
+    std::vector<double> hs(h.begin(), h.begin() + static_cast<std::ptrdiff_t>(n));
+    std::nth_element(hs.begin(), hs.begin() + static_cast<std::ptrdiff_t>(hs.size() / 2), hs.end());
+    if (hs[hs.size() / 2] > 0.0) hRef = hs[hs.size() / 2];
+  }
+  std::vector<double> radius(n);
+  for (std::size_t a = 0; a < n; ++a) radius[a] = support * h[a];
+  // Cells of half the typical support: a (5 cells)^Dim block covers it with fewer candidates
+  // than (3 cells of a full support)^Dim.
+  grid.build(x, 0.5 * support * hRef, radius);
+  std::vector<Tensor<Dim>> Gs;
+  std::vector<double> inner2s;
+  if constexpr (Ellipsoidal) {
+    const auto members = grid.members();
+    Gs.resize(n);
+    inner2s.resize(n);
+    for (std::size_t m = 0; m < n; ++m) {
+      const Tensor<Dim>& Hm = H[members[m]];
+      Gs[m] = Hm.transpose() * Hm;
+      inner2s[m] = innerRadius2<Dim>(Hm, support);
+    }
+  }
+  // The last build's rows estimate each chunk's share below.
+  std::vector<std::uint64_t> previous;
+  previous.swap(out.offsets);
+  out.counts.clear(); // whole rows, as searched
+  out.offsets.assign(owned + 1, 0);
+  out.base.assign(owned, 0);
+  const ChunkSearch<Dim, Ellipsoidal> search{x, H, owned, support, grid, radius, Gs, inner2s, out};
+  // The particles are searched in chunks of consecutive a, in parallel (core/Threads.hpp); each
+  // chunk keeps its rows and its pairs found from the other side, and the chunks are then joined
+  // in order: the lists come out as one sequential pass makes them, on any thread count.
+  const int threads = threadCount();
+  const std::size_t chunks =
+      threads == 1 || !threaded(n) ? 1 : 32 * static_cast<std::size_t>(threads);
+  OtherSide extra;
+  if (owned > 0 && (previous.size() < 2 || previous.back() == 0))
+    estimateFirstRows(search, owned, previous);
+  // Without owned rows, all of it is one spill that becomes the list. Else rows go into
+  // regions, on one thread too (a row goes into a region with one copy: faster than into a
+  // growing vector).
+  if (owned == 0) {
+    ListChunk all;
+    all.spill.swap(out.units);
+    all.spill.clear();
+    search(0, n, all);
+    out.units.swap(all.spill);
+    out.entries = all.entries;
+    extra.swap(all.extra);
+  } else {
+    std::vector<ListChunk> parts(chunks);
+    placeRegions(parts, previous, n, owned, out);
+    // (An exception must not leave a parallel region: a failed allocation is carried out.)
+    std::exception_ptr failure;
+#pragma omp parallel for schedule(dynamic, 1) if (threaded(n))
+    for (std::size_t c = 0; c < chunks; ++c) {
+      try {
+        search(chunkBegin(n, chunks, c), chunkBegin(n, chunks, c + 1), parts[c]);
+      } catch (...) {
+#pragma omp critical(spall_neighbor_failure)
+        if (!failure) failure = std::current_exception();
+      }
+    }
+    if (failure) std::rethrow_exception(failure);
+    extra = joinChunks(parts, n, owned, out);
+  }
+  if (!extra.empty()) mergeOtherSide(out, owned, extra);
   if (order) sortRows<Dim>(out, *order, n);
 }
 
