@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include "spall/parallel/Mpi.hpp"
+
 namespace {
 
 class MpiEnvironment : public ::testing::Environment {
@@ -12,6 +14,7 @@ public:
     int initialized = 0;
     MPI_Initialized(&initialized);
     if (!initialized) {
+      spall::parallel::preferIsolatedSingleton();
       int provided = 0;
       MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
       owner_ = true;

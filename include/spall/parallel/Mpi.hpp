@@ -76,7 +76,12 @@ template <class Error, class F> void onRoot(MPI_Comm comm, F&& f) {
   throw Error(message);
 }
 
-// RAII MPI_Init_thread / MPI_Finalize for the executable.
+// Before MPI_Init: a process started without mpirun (a singleton: `spall check`, a one-rank
+// run, a unit test) is told it will never spawn, so that Open MPI starts no support daemon for it
+// (orted: ~0.2 s of each such start). A value the user set is kept; under mpirun it is unused.
+void preferIsolatedSingleton();
+
+// RAII MPI_Init_thread / MPI_Finalize for the executable (preferIsolatedSingleton first).
 class MpiSession {
 public:
   MpiSession(int& argc, char**& argv);
