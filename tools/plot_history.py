@@ -18,7 +18,7 @@ REQUIRED = ["step", "time", "dt", "kinetic_energy", "internal_energy", "total_en
 
 
 def read_history(path):
-    """Return a dict column -> float array. Extra columns are allowed (INTERFACE.md)."""
+    """Return a dict column -> float array. Extra columns are allowed (docs/reference.md)."""
     with open(path) as f:
         header = f.readline().strip().split(",")
         if not f.readline().strip():

@@ -22,7 +22,7 @@ STRESS_UNITS = {"Pa": 1.0, "kPa": 1e-3, "MPa": 1e-6, "GPa": 1e-9}
 
 
 def si_unit(field):
-    """The SI unit of the probe fields INTERFACE.md names; '' for fields a later model adds."""
+    """The SI unit of the probe fields docs/reference.md names; '' for fields a later model adds."""
     if field.startswith("velocity_"):
         return "m/s"
     if field.startswith("position_"):

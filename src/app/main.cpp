@@ -1,4 +1,4 @@
-// spall: the command line (INTERFACE.md). Exit codes: 0 finished, 1 the run failed, 2 usage or
+// spall: the command line (docs/reference.md). Exit codes: 0 finished, 1 the run failed, 2 usage or
 // deck error (nothing run, nothing written).
 #include "spall/app/Element.hpp"
 #include "spall/app/History.hpp"

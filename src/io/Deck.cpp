@@ -1,5 +1,5 @@
 // Deck reading: parse (toml++), apply --set overrides, then validate into the typed config. Each
-// check reports the position of the value it rejects (INTERFACE.md, "Bad input").
+// check reports the position of the value it rejects (docs/reference.md, "Bad input").
 #include "spall/io/Deck.hpp"
 
 #include "DeckDetail.hpp"

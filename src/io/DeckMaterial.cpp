@@ -53,7 +53,7 @@ void readEos(const TableReader& r, EosConfig& e) {
   }
 }
 
-// strength = {type = "cap", ...}: the keys of INTERFACE.md; compression negative.
+// strength = {type = "cap", ...}: the keys of docs/reference.md; compression negative.
 void readCap(const TableReader& r, StrengthConfig& c) {
   const auto need = [&](std::string_view key) { return r.required(r.number(key), key); };
   c.bulk_modulus = need("bulk_modulus");

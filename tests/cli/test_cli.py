@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Command-line contract (INTERFACE.md): every class of deck error exits 2 with
+"""Command-line contract (docs/reference.md): every class of deck error exits 2 with
 FILE:LINE:COLUMN of the offending value and writes nothing; results are never overwritten
 silently; the shipped decks all pass `spall check`.
 

@@ -1,5 +1,5 @@
 // Conservation laws on scenes without walls: mass exactly, momentum to round-off, total energy
-// to the time-integration error (INTERFACE.md history.csv totals).
+// to the time-integration error (docs/reference.md history.csv totals).
 #include "RunDeck.hpp"
 
 #include <algorithm>

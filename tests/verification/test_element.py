@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The single-element driver (`spall element`, INTERFACE.md "Single-element driver"; issue 16) on
+"""The single-element driver (`spall element`, docs/reference.md "Single-element driver"; issue 16) on
 the J2 material of tests/verification/element/j2.toml, the same material code as `spall run`.
 
 - Uniaxial strain (Austin 2013, Sec. 4.1.1.1): F = diag(lambda, 1, 1) compressed 1%, stretched to

@@ -1,5 +1,5 @@
 #pragma once
-// The files of a restart chain in an output directory (INTERFACE.md, output layout):
+// The files of a restart chain in an output directory (docs/reference.md, output layout):
 // checkpoints/ckpt_NNNNNN.h5 (NNNNNN = step), checkpoints/latest naming the newest complete one,
 // and the logs and snapshots a restart continues. Rank 0 only; no MPI here.
 #include <cstdint>

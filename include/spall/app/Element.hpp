@@ -1,6 +1,7 @@
 #pragma once
 // `spall element`: one material point driven through a deformation-gradient history (an F-table,
-// io/FTable.hpp) by the same material update a run uses (INTERFACE.md, "Single-element driver").
+// io/FTable.hpp) by the same material update a run uses (docs/reference.md, "Single-element
+// driver").
 #include <string>
 #include <vector>
 

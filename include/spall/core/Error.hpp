@@ -20,7 +20,7 @@ public:
   DeckError(SourceLocation where, const std::string& message)
       : std::runtime_error(message), where_(std::move(where)) {}
   const SourceLocation& where() const { return where_; }
-  // "FILE:LINE:COLUMN: error: MESSAGE" (INTERFACE.md, "Bad input").
+  // "FILE:LINE:COLUMN: error: MESSAGE" (docs/reference.md, "Bad input").
   std::string formatted() const;
 
 private:

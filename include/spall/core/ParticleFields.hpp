@@ -5,7 +5,7 @@
 // (kCheckpoint), remote ghosts (kHalo, kRefresh) and wall images (kReflectVector,
 // kReflectTensor). Rates are
 // checkpointed (an exact restart needs the rates of the last step); per-step sums and scratch
-// are not. Snapshot names follow INTERFACE.md; checkpointed names are part of the file format.
+// are not. Snapshot names follow docs/reference.md; checkpointed names are part of the file format.
 #include "spall/core/ParticleStore.hpp"
 
 namespace spall {

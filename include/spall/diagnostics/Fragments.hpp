@@ -1,5 +1,5 @@
 #pragma once
-// Fragments: friends of friends across ranks (INTERFACE.md, [fragments]). Two particles are
+// Fragments: friends of friends across ranks (docs/reference.md, [fragments]). Two particles are
 // friends when both are linkable (damage below the threshold) and closer than the mean of their
 // link radii; a fragment is a connected set of friends, a particle with no friend a fragment of its
 // own. Physics-free: rows are owned particles, then the ghosts of other ranks and periodic images

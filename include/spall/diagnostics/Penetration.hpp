@@ -1,5 +1,5 @@
 #pragma once
-// Depth of penetration (penetration.csv; INTERFACE.md, [penetration]): the deepest penetrator
+// Depth of penetration (penetration.csv; docs/reference.md, [penetration]): the deepest penetrator
 // material below the target's original surface along the direction of penetration,
 //   depth = max_i (x_i - x_s) . n   over the penetrator's particles,
 // the rate of that depth (the difference from the previous row over the time between them), and

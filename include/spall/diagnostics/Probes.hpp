@@ -1,7 +1,7 @@
 #pragma once
-// Probes (INTERFACE.md, [[probe]]): "material" follows the particle nearest the probe position at
-// t = 0 (by id, so it survives reordering and, later, migration); "space" interpolates at a fixed
-// point with the Shepard-normalised kernel sum over the particles whose support covers it.
+// Probes (docs/reference.md, [[probe]]): "material" follows the particle nearest the probe position
+// at t = 0 (by id, so it survives reordering and, later, migration); "space" interpolates at a
+// fixed point with the Shepard-normalised kernel sum over the particles whose support covers it.
 #include "spall/core/ParticleFields.hpp"
 #include "spall/io/Deck.hpp"
 #include "spall/parallel/Mpi.hpp"

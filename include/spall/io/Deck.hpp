@@ -1,6 +1,6 @@
 #pragma once
-// The typed, validated form of a TOML deck (INTERFACE.md, "Deck schema"). Every value that came
-// from the deck keeps the position it came from, so later checks (a body with zero particles,
+// The typed, validated form of a TOML deck (docs/reference.md, "Deck schema"). Every value that
+// came from the deck keeps the position it came from, so later checks (a body with zero particles,
 // overlapping bodies) still report FILE:LINE:COLUMN.
 #include "spall/core/Error.hpp"
 #include "spall/solvers/Config.hpp"
@@ -46,12 +46,12 @@ struct EosConfig {
   SourceLocation where;
 };
 
-// strength = {type = ...} (INTERFACE.md; materials/Strength.hpp for the models).
+// strength = {type = ...} (docs/reference.md; materials/Strength.hpp for the models).
 struct StrengthConfig {
   std::string type = "none"; // "none" | "elastic" | "von_mises" | "johnson_cook" |
                              // "zerilli_armstrong" | "cap"
   double shear_modulus = 0.0, yield_stress = 0.0;
-  // cap (materials/CapPlasticity.hpp; INTERFACE.md for the keys)
+  // cap (materials/CapPlasticity.hpp; docs/reference.md for the keys)
   double bulk_modulus = 0.0, peak_i1 = 0.0, f_slope = 0.0, cap_ratio = 0.0;
   double crush_p0 = 0.0, crush_p1 = 0.0, crush_p3 = 0.0;
   bool hardening = true;
@@ -73,7 +73,7 @@ struct StrengthConfig {
   SourceLocation where;
 };
 
-// damage = {type = ...} (INTERFACE.md; materials/Damage.hpp for the models).
+// damage = {type = ...} (docs/reference.md; materials/Damage.hpp for the models).
 struct DamageConfig {
   std::string type = "none"; // "none" | "grady_kipp" | "johnson_cook"
   // grady_kipp: n(eps) = weibull_k eps^weibull_m flaws per m^3; crack speed over the longitudinal
@@ -86,7 +86,7 @@ struct DamageConfig {
   SourceLocation where;
 };
 
-// porosity = {type = "p_alpha", ...} (INTERFACE.md; materials/Porosity.hpp for the model).
+// porosity = {type = "p_alpha", ...} (docs/reference.md; materials/Porosity.hpp for the model).
 struct PorosityConfig {
   std::string type = "none"; // "none" | "p_alpha"
   double alpha0 = 1.0, elastic_pressure = 0.0, solid_pressure = 0.0, exponent = 2.0;

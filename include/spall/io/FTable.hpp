@@ -1,6 +1,6 @@
 #pragma once
-// An F-table (INTERFACE.md, "Single-element driver"): one row per time, whitespace-separated, `#`
-// comments: t, the nine components of the deformation gradient row by row, and optionally a
+// An F-table (docs/reference.md, "Single-element driver"): one row per time, whitespace-separated,
+// `#` comments: t, the nine components of the deformation gradient row by row, and optionally a
 // superimposed rotation (angle in degrees about an axis). What `spall element` drives a material
 // with, and what `spall history` will write for a particle of a run.
 #include "spall/core/Types.hpp"

@@ -1,6 +1,6 @@
 #pragma once
 // Snapshots: one HDF5 file per output time, written collectively by all ranks through MPI-IO so
-// the file is the same whatever the rank count (INTERFACE.md, "Snapshot HDF5"), and a serial
+// the file is the same whatever the rank count (docs/reference.md, "Snapshot HDF5"), and a serial
 // reader for tests, tools and restarts.
 #include "spall/core/ParticleStore.hpp"
 

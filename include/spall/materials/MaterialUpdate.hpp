@@ -1,13 +1,12 @@
 #pragma once
-// One per-particle material update, shared by every method (SPH now; MPM and the single-element
-// driver next): (rho, e, L, dt, history) -> (p, S, cs, history). It runs the stages of a
-// material in order, in one pass: strength (the deviatoric stress over dt, from the velocity
-// gradient), the equation of state, then damage (which degrades what the intact material would
-// carry: materials/Damage.hpp); porosity slots in as a further stage. A cap material
-// (materials/CapPlasticity.hpp) is one stage that owns the whole stress: no EOS. The
-// evaluation without dt advances no history: the EOS-only refresh after a density sum or a
-// correction. A solid carries shear waves too: its signal speed (time step, viscosity) is the
-// longitudinal one, sqrt(cs^2 + 4G/(3 rho)).
+// One per-particle material update, shared by SPH, ASPH, MPM and the single-element driver: (rho,
+// e, L, dt, history) -> (p, S, cs, history). It runs the stages of a material in order, in one
+// pass: strength (the deviatoric stress over dt, from the velocity gradient), the equation of
+// state, then damage (which degrades what the intact material would carry: materials/Damage.hpp);
+// porosity slots in as a further stage. A cap material (materials/CapPlasticity.hpp) is one stage
+// that owns the whole stress: no EOS. The evaluation without dt advances no history: the EOS-only
+// refresh after a density sum or a correction. A solid carries shear waves too: its signal speed
+// (time step, viscosity) is the longitudinal one, sqrt(cs^2 + 4G/(3 rho)).
 #include "spall/materials/CapPlasticity.hpp"
 #include "spall/materials/Damage.hpp"
 #include "spall/materials/Eos.hpp"

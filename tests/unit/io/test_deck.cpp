@@ -1,5 +1,5 @@
 // Deck reading: typed values from valid decks, FILE:LINE:COLUMN and messages for each class of bad
-// input (INTERFACE.md, "Bad input"), --set overrides, and the resolved deck round trip.
+// input (docs/reference.md, "Bad input"), --set overrides, and the resolved deck round trip.
 #include "spall/io/Deck.hpp"
 
 #include <gtest/gtest.h>

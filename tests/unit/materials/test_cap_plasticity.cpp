@@ -13,7 +13,7 @@ using namespace spall::materials;
 
 namespace {
 
-// The sandstone of INTERFACE.md (Arenisca-like parameters; Austin 2013 Table 5.2 order of size).
+// The sandstone of the decks (Arenisca-like parameters; Austin 2013 Table 5.2 order of size).
 CapPlasticity sandstone() {
   CapPlasticity c;
   c.rho0 = 2300.0;
@@ -62,7 +62,7 @@ TEST(CapPlasticity, CrushCurveIsEq45AndItsTangentContinuation) {
 TEST(CapPlasticity, SurfaceIsSmoothAtKappaAndClosedOnTheHydrostat) {
   const CapPlasticity c = sandstone();
   const double X = c.P0, k = c.kappa(X);
-  // kappa - X = cap_ratio Ff(kappa) (INTERFACE.md)
+  // kappa - X = cap_ratio Ff(kappa) (docs/reference.md, cap_ratio)
   EXPECT_NEAR(k - X, c.capRatio * c.fSlope * (c.peakI1 - k), 1e-6);
   EXPECT_DOUBLE_EQ(c.yieldRadius(X, X), 0.0);
   EXPECT_DOUBLE_EQ(c.yieldRadius(c.peakI1, X), 0.0);

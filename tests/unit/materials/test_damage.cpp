@@ -15,7 +15,7 @@ using namespace spall;
 using namespace spall::materials;
 
 namespace {
-const GradyKipp kBasalt{5.0e40, 8.5, 0.4}; // INTERFACE.md's example
+const GradyKipp kBasalt{5.0e40, 8.5, 0.4}; // Benz & Asphaug (1994)'s basalt
 constexpr double kV = 1.0e-12;             // a (0.1 mm)^3 particle
 constexpr std::uint64_t kSeed = 42;
 constexpr std::uint64_t kN = 20000; // particles in the body

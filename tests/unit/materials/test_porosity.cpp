@@ -26,7 +26,7 @@ Tillotson basalt() {
   return t;
 }
 
-PAlpha oneStage() { // the INTERFACE.md example (GASPHiA note: pumice-like)
+PAlpha oneStage() { // the GASPHiA note's pumice-like example
   PAlpha p;
   p.alpha0 = 3.0, p.Pe = 1.0e6, p.Ps = 213.0e6, p.n = 2.0;
   return p;
