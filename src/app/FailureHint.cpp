@@ -23,7 +23,7 @@ std::string failureHint(const FailureSigns& s) {
            "particle); solids under tension: solver.artificial_stress";
   // ASPH torn apart at km/s (the stability matrix's fine hydro cells at 6-10 km/s): a smaller
   // cfl fails more of them, and neither max_aspect_ratio, eos.min_pressure nor a relaxed shape
-  // of H cures it (decks/README.md, "Safe defaults"); SPH finishes them.
+  // of H cures it (decks/topics/safe-defaults.md); SPH finishes them.
   if (s.asph && (s.nonFinite || s.energy) && s.pMin < 0.0)
     return fmt::format(
         "hint: an ASPH particle in tension (pressure down to {:.3g} Pa over its last steps): "

@@ -224,7 +224,7 @@ std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck
     list.push_back(std::make_unique<methods::KernelCorrection<Dim>>());
   if (solver.method == "asph") list.push_back(std::make_unique<methods::SmoothingTensor<Dim>>());
   // MPM: "auto" is the grid's single velocity field (Uintah's default; the multi-field contact
-  // is the explicit "frictionless": decks/README.md, "The material point method").
+  // is the explicit "frictionless": decks/topics/mpm.md).
   if (solver.contact == Contact::Frictionless || (solver.contact == Contact::Auto && !mpm))
     list.push_back(std::make_unique<methods::FrictionlessContact<Dim>>());
   std::vector<typename methods::ConfiningPressure<Dim>::Load> loads;

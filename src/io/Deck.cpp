@@ -148,7 +148,7 @@ void DeckReader::read(Deck& deck) {
   }
 
   // Monaghan's artificial stress is on by default for decks with solids: without it, solids in
-  // tension pair up and tear (the rubber rings of decks/README.md, "Safe defaults"). So is the
+  // tension pair up and tear (the rubber rings of decks/topics/safe-defaults.md). So is the
   // linearly reconstructed viscosity: the plain one acts in plastic flow as a shear viscosity
   // comparable to the flow stress (a Taylor bar's face comes out 10% narrow; decks/README.md).
   const bool solids =

@@ -14,7 +14,7 @@ namespace {
 // CPDI's domains: at most a cell in half-width (2 cells across: the corners' cells still meet)
 // and 4 times longer than wide. The stretching bar reaches 0.75 cells and 3 at stretch 3,
 // untouched; a rod's penetration shears domains to 12 cells by 1/200 of one, which turned
-// points inside out (decks/README.md, "The material point method").
+// points inside out (decks/topics/mpm.md).
 constexpr double kDomainLongest = 1.0, kDomainAspect = 4.0;
 } // namespace
 
@@ -352,7 +352,7 @@ template <int Dim> void MpmMethod<Dim>::exchangeHalo() {
 // the owned rows are the same. Extra ghosts change no sum: every node sums the points that touch
 // it, in id order, whichever rank holds them (as on any rank count). Choosing them every step
 // (the domains' boxes, the plan, a collective) cost 3% of a 2-rank Taylor bar's step
-// (decks/README, "The material point method").
+// (decks/topics/mpm.md).
 template <int Dim> void MpmMethod<Dim>::haloForStep() {
   bool changed = true;
   const double need = haloReachNeeded(&changed);

@@ -75,7 +75,7 @@ template <int Dim, MpmShape Shape> void Grid<Dim, Shape>::contact(std::vector<Ve
       // other's does not, say nothing of where the fields meet. Along a normal leaning across
       // the plane the correction took only part of the approach, the wall the rest of the
       // correction: on the axis of an rz rod striking a block the two bodies' axial rings
-      // passed through each other at 4-5 km/s (decks/README.md, "The material point method").
+      // passed through each other at 4-5 km/s (decks/topics/mpm.md).
       for (const auto& w : walls_)
         if (onWall(X, w)) n -= n.dot(w.normal) * w.normal;
       const double length = n.norm();

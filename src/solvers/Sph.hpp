@@ -375,7 +375,7 @@ private:
   }
   // ASPH: the same for the ellipsoidal kernels, whose pair needs two matrix-vector products,
   // two square roots and two divisions before anything else; columns and no branches, as
-  // SPH's (taylor_bar_3d with ASPH: see decks/README, "ASPH").
+  // SPH's (taylor_bar_3d with ASPH: see decks/topics/asph.md).
   struct AnisoPairKernels {
     std::size_t stride = 0; // of the columns below
     // The pair's mean gradient (Dim columns), then i's own (Dim more): gW(a, k) and gWi(a, k).

@@ -594,7 +594,7 @@ void Sph<Dim, K, Aniso>::ratesLoop(const neighbors::NeighborList& nl, std::size_
 // a box as wide as its longest reach, cut in the row's (rank-count-independent) order at the
 // force loop's positions; every shape_interval evaluations, staggered by id so that each step
 // cuts the same share. Half the cost of an ASPH step is the cell, and H moves only half way
-// towards it a step: a cell a few steps old is as good a target (decks/README, "ASPH").
+// towards it a step: a cell a few steps old is as good a target (decks/topics/asph.md).
 template <int Dim, class K, bool Aniso>
 void Sph<Dim, K, Aniso>::cutVoronoiCells(const neighbors::NeighborList& nl) {
   const std::size_t n = s_.localCount();

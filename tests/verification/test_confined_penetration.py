@@ -14,7 +14,7 @@ then), 103.4 MPa (Table 5.1's highest), to 70 us:
    with it) and energy within 1e-4 (measured 1e-6: the trapezoidal booking is second order).
 Long (label `long`), the shipped deck at run.resolution 0.5 (2 ranks, ~5 min each), unconfined
 and at 103.4 MPa: the confined rod stops shallower, by more than 25% (measured: 23.8 mm against
-43.9 mm at 260 us, the unconfined rod still moving at 130 m/s; decks/README.md, "Confining pressure"), the trend of Austin's Table 5.1 and
+43.9 mm at 260 us, the unconfined rod still moving at 130 m/s; decks/topics/confining-pressure.md), the trend of Austin's Table 5.1 and
 of the experiments behind it.
 
 usage: test_confined_penetration.py SPALL SOURCE_DIR [long]

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Hypervelocity scenes that used to run away, run past the point where they failed
-(decks/README.md, "Penetration"; label `long`, 2 ranks, ~8 min in all).
+(decks/topics/penetration.md; label `long`, 2 ranks, ~8 min in all).
 
 1. The tungsten rod into the steel billet (decks/rod_into_steel_rz.toml, Austin 2013 Sec. 6.4) at
    run.resolution 0.5 with zero-stress erosion in both materials, to 70 us. It used to blow up at

@@ -16,7 +16,7 @@ exact answers, across rank counts and restarts, and hydrodynamic penetration aga
    transient, to 16 us) against Bernoulli's U_B = V / (1 + sqrt(rho_t/rho_p)). The issue asks
    for 3%. Measured -4.3% (copper; -2.4% from 20% to 60% of the hydrodynamic depth, the rate
    creeping up) and -0.9% (aluminium); in a wider, shallower copper block -5%, at half the
-   spacing too (decks/README.md, "Penetration", on the gap). The bound here, 5%, holds what the
+   spacing too (decks/topics/penetration.md, on the gap). The bound here, 5%, holds what the
    method gives now and fails if it loses more; compressibility alone accounts for -1.2%
    (copper: the stagnation pressures of isentropic Murnaghan fluids).
    The copper pair again with MPM (solver.method = "mpm", cpGIMP, the default), one grid field

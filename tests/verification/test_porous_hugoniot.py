@@ -28,7 +28,7 @@ With the material point method (`porous_hugoniot_mpm`: --set solver.method=mpm a
 viscosity that decks/README recommends for impacts, 100 and 200 m/s) the same bounds hold
 (measured: P -0.10% / -0.26%, rho -0.01% / -0.02%, U +0.03% / -0.34%, alpha2 within 0.05% of
 alpha0 - 1; elastic P and U within 0.04%). At 1000 m/s (full compaction) MPM's mean state is
-right but its points alternate within each cell (decks/README, "The material point method"), so
+right but its points alternate within each cell (decks/topics/mpm.md), so
 that case is left out there.
 
 usage: test_porous_hugoniot.py SPALL SOURCE_DIR [--speeds=A,B] [--set K=V ...]

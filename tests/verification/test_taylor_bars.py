@@ -8,7 +8,7 @@ Fast (default), at half the shipped resolution (about 5 particles across the rad
 smoothing scale, 1.5 spacings, is a third of the radius):
 - 42CrMo4 steel (Pantale et al., DynELA and Abaqus, the same Johnson-Cook model: 26.55 mm,
   11.19 mm), 3.8k particles: length within 4%, face within the issue's 4% already here.
-  Measured -2.7% and -3.0%; -2.0% and -0.7% at 7 across (decks/README.md, "Taylor bars"). Before
+  Measured -2.7% and -3.0%; -2.0% and -0.7% at 7 across (decks/topics/taylor-bars.md). Before
   the wall's hold replaced its images' viscosity the face came out -7.3% here, and 16% narrow
   with the plain viscosity.
 - 4340 steel (Johnson & Cook's 1983 test, 22.48 mm, 11.1 mm, and its profile), 2.4k particles:

@@ -1,6 +1,6 @@
 #pragma once
 // The hint a failed run's message ends with: what usually causes the failing particle's state,
-// judged from that state and its last good steps (decks/README.md, "When a run fails").
+// judged from that state and its last good steps (decks/topics/failures.md).
 #include <string>
 
 namespace spall::app {

@@ -32,7 +32,7 @@ struct Material {
   // The EOS's tension limit: p = max(p_eos, pMin) (a hydrodynamic spall cutoff, as hydrocodes'
   // minimum pressure). Without damage the Mie-Gruneisen form carries any tension a stretched
   // particle asks of it (-40 GPa at 0.7 rho0 in copper); e falls under compression in tension,
-  // which deepens the tension, and a hot jet tip ran away so (decks/README.md, "Penetration").
+  // which deepens the tension, and a hot jet tip ran away so (decks/topics/penetration.md).
   double pMin = -std::numeric_limits<double>::infinity();
 
   bool solid() const { return strength.has_value() || cap.has_value(); }

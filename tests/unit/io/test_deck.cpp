@@ -947,7 +947,7 @@ TEST_F(DeckTest, SolidSolverOptions) {
   EXPECT_EQ(d.solver.velocity_gradient, spall::VelocityGradient::Corrected);
   const Deck off = loadDeck(path, {"solver.artificial_stress.epsilon=0"});
   EXPECT_FALSE(off.solver.artificial_stress.enabled);
-  // The defaults (decks/README.md, "Safe defaults"): artificial stress where a material has
+  // The defaults (decks/topics/safe-defaults.md): artificial stress where a material has
   // strength (none here), contact "auto".
   const Deck plain = loadDeck(path);
   EXPECT_FALSE(plain.solver.artificial_stress.enabled);

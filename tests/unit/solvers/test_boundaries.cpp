@@ -152,7 +152,7 @@ TEST(Boundaries, ARigidWallStopsTheApproachOfParticlesOnItAndKeepsTheirEnergy) {
 // flow at a Taylor bar's face) gets from its images a force that does not depend on its
 // velocities. As viscous neighbors the same images push the block off the wall and sideways
 // as hard as the block's own viscosity acts (what held a Taylor bar's face layer 0.2 spacings
-// above the wall and its face too narrow: decks/README.md, "Taylor bars").
+// above the wall and its face too narrow: decks/topics/taylor-bars.md).
 TEST(Boundaries, ARigidWallsImagesExertNoViscosity) {
   SolverConfig cfg; // Monaghan's viscosity, alpha 1, beta 2
   Tensor<2> G;
