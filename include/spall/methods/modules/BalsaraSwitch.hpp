@@ -1,7 +1,8 @@
 #pragma once
 // Balsara (1995): the artificial viscosity of a pair scaled by |div v| / (|div v| + |curl v|),
 // which damps it in shear. The force loop measures div v and curl v; the next loop reads them of
-// both particles (neighbors too: they travel with the halo).
+// both particles (neighbors too: they travel with the halo). The pair terms: Sph::RatesLoop's
+// viscosity and balsaraSums (src/solvers/SphRatesLoop.hpp).
 #include "spall/methods/Module.hpp"
 
 namespace spall::methods {

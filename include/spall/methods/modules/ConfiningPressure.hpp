@@ -2,8 +2,8 @@
 // [[boundary]] type = "pressure": a confining pressure P(t) on a body's free surface (the
 // confined rock targets of Austin 2013, Sec. 5.2 and Table 5.1).
 //
-// The force loop carries it (solvers/SphSolver, ratesLoop) as a shift of the stress in the
-// momentum equation of the body's particles: row i sees sigma + P_i I for itself and for every
+// The force loop carries it (Sph::RatesLoop::surfaceSums and closeRow) as a shift of the stress in
+// the momentum equation of the body's particles: row i sees sigma + P_i I for itself and for every
 // neighbor, its own body's or another's. A uniform stress exerts no force, so the shift only acts
 // where the support is cut, and there it is the traction -P n dA: on row i
 //   a_i += P_i G_i,  G_i = sum_j m_j (u_i + u_j) s_i s_j grad_i W_ij  (u = 1/rho^2 or 1),

@@ -3,6 +3,8 @@
 // compression only (no tension, no shear), so it needs each neighbor's group, ghosts included;
 // MPM (contact = "frictionless" only) gives each group its own velocity field on the grid.
 // The groups are set where the bodies are made (app/BodyGenerator: every rank sees every body).
+// SPH's pair term: Sph::RatesLoop::contactRule (src/solvers/SphRatesLoop.hpp); MPM's:
+// src/solvers/MpmGridContact.hpp.
 #include "spall/methods/Module.hpp"
 
 namespace spall::methods {

@@ -1,7 +1,8 @@
 #pragma once
 // velocity_gradient = "corrected" (Randles & Libersky 1996; Bonet & Lok 1999): the per-particle
 // B = M^-T that makes the kernel gradient exact for linear fields. The solver computes it every
-// evaluation; the method sends it to ghosts and wall images before the force loop.
+// evaluation; the method sends it to ghosts and wall images before the force loop, whose terms
+// take B_i grad W and B_j grad W (Sph::RatesLoop, Stress::CorrectedCauchy).
 #include "spall/methods/Module.hpp"
 
 namespace spall::methods {
