@@ -1,6 +1,7 @@
 #pragma once
 // The pair physics of the SPH force loop, one small function a term, free of loops and of how
-// pairs are visited (SphSolver's ratesLoop visits them and sums). Symbols as in the papers.
+// pairs are visited (Sph::RatesLoop in src/solvers/SphRatesLoop.hpp visits them and sums).
+// Symbols as in the papers.
 #include "spall/core/Types.hpp"
 
 #include <Eigen/Eigenvalues>
