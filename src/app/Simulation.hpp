@@ -2,8 +2,8 @@
 // A run of one dimension: the particles, the method that steps them, and the run loop around
 // it (time, output, checkpoints, signals). The run loop knows nothing of how the method steps.
 // Its members are defined by job: Simulation.cpp (set-up, new run, restart, checkpoint state, the
-// loop), RunOutput.cpp (snapshots, history, probes, banner, the closing summary and
-// summary.json), RunFailure.cpp (the rescue point, the replay and message of a failed step, the
+// loop), RunOutput.cpp (snapshots, history, probes, banner), RunSummary.cpp (the closing summary
+// and summary.json), RunFailure.cpp (the rescue point, the replay and message of a failed step, the
 // time-step warning).
 #include "spall/app/BodyGenerator.hpp"
 #include "spall/app/CheckpointFiles.hpp"
@@ -104,9 +104,9 @@ private:
   void advanceSnapshotClock(const std::string& base);
   void record(double dt, std::int64_t step, Clock::time_point wall0);
   void banner(RunLog& log, const std::filesystem::path& dir);
-  // RunOutput.cpp: the closing summary
+  // RunSummary.cpp: the closing summary
   void finish(RunLog& log, const RunOptions& options, Clock::time_point wall0, int stopSignal);
-  struct RunReport; // RunOutput.cpp
+  struct RunReport; // RunSummary.cpp
   RunReport report(Clock::time_point wall0);
   void conservationErrors(RunReport& r) const;
   std::vector<std::string> summaryLines(const RunReport& r, const RunOptions& options,

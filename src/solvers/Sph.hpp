@@ -246,7 +246,7 @@ private:
       anisoRow_[j] = {Hs[j].transpose() * Hs[j], K::sigma() * Hs[j].determinant()};
   }
   // ASPH: the Voronoi cells of the owned rows, the target shapes of their next H, a pass after
-  // the force loop (SphRatesLoop.hpp).
+  // the force loop (SphVoronoiCells.hpp).
   void cutVoronoiCells(const neighbors::NeighborList& nl);
   void cutVoronoiCell(std::size_t i, std::span<const std::uint32_t> row);
   // grad_x W(|H_k x|) at x = x_ij with row k's tensor: det(H) W'(eta) H^T H x / eta.

@@ -1,6 +1,7 @@
 #include "spall/solvers/SphSolver.hpp"
 
 #include "SphRatesLoop.hpp"
+#include "SphVoronoiCells.hpp"
 
 namespace spall::solvers {
 

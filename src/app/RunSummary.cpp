@@ -1,0 +1,289 @@
+#include "Simulation.hpp"
+
+#include "spall/app/StopSignals.hpp"
+#include "spall/app/SystemInfo.hpp"
+
+#include <cmath>
+#include <fmt/format.h>
+#include <fstream>
+
+// The closing summary of a run: the lines a user reads and summary.json for tools.
+namespace spall::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The command that continues this run, as the user would type it (any rank count will do).
+std::string resumeCommand(const RunOptions& o) {
+  auto quote = [](const std::string& a) {
+    if (a.find_first_of(" \t'\"$`\\[]*?{}()<>|&;") == std::string::npos) return a;
+    std::string q = "'";
+    for (char c : a) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+  };
+  std::string cmd = "spall run " + quote(o.deckPath);
+  for (const auto& v : o.overrides) cmd += " --set " + quote(v);
+  if (o.outputDir) cmd += " --output " + quote(*o.outputDir);
+  return cmd + " --restart latest";
+}
+
+// A JSON object whose members keep the order they were added in; values are rendered by the
+// caller (numbers in the precision each one needs).
+class JsonObject {
+public:
+  JsonObject& value(const std::string& key, std::string rendered) {
+    members_.emplace_back(key, std::move(rendered));
+    return *this;
+  }
+  JsonObject& text(const std::string& key, const std::string& s) {
+    std::string q = "\"";
+    for (char c : s) {
+      if (c == '"' || c == '\\') q += '\\';
+      q += c;
+    }
+    return value(key, q + "\"");
+  }
+  // A nested object, written on one line.
+  JsonObject& object(const std::string& key, const JsonObject& o) {
+    return value(key, o.str(false));
+  }
+  std::string str(bool multiline) const {
+    std::string out = "{";
+    for (std::size_t k = 0; k < members_.size(); ++k)
+      out += fmt::format("{}{}\"{}\": {}", k ? "," : "", multiline ? "\n  " : (k ? " " : ""),
+                         members_[k].first, members_[k].second);
+    return out + (multiline ? "\n}\n" : "}");
+  }
+
+private:
+  std::vector<std::pair<std::string, std::string>> members_;
+};
+
+std::string fixed6(double v) {
+  return fmt::format("{:.6f}", v);
+}
+
+} // namespace
+
+// What a run's end reports: its rate, conservation, memory and decomposition (over all ranks).
+template <int Dim> struct Simulation<Dim>::RunReport {
+  double wall = 0.0, rate = 0.0;
+  std::int64_t steps = 0;
+  double massErr = 0.0, momErr = 0.0, energyErr = 0.0;
+  std::size_t peak = 0, base = 0;
+  std::vector<std::pair<std::string, double>> memory; // bytes per particle, by part
+  double accounted = 0.0;
+  double ghostFraction = 0.0, meanNeighbors = 0.0;
+  std::uint64_t crossPairs = 0;
+};
+
+// Mass, momentum and total energy against their initial values, relative.
+template <int Dim> void Simulation<Dim>::conservationErrors(RunReport& r) const {
+  const auto& t = last_;
+  r.massErr = std::abs(t.mass - totals0_.mass) / totals0_.mass;
+  double momScale = 0.0, momErr = 0.0;
+  // The components no unbooked force acts along: in rz the sum of m v_r is no conserved quantity
+  // (the hoop force is radial), and a rigid wall's force (its images' pairs, the hold) is not
+  // booked, so the components along its normal are left out. None left: not judged (NaN).
+  std::array<bool, 3> judged{deck_.run.geometry != Geometry::RZ, true, true};
+  for (const auto& b : deck_.boundaries)
+    if (b.type == "rigid_wall")
+      for (std::size_t d = 0; d < std::min<std::size_t>(3, b.normal.size()); ++d)
+        if (b.normal[d] != 0.0) judged[d] = false;
+  bool anyJudged = false;
+  for (int d = deck_.run.geometry == Geometry::RZ ? 1 : 0; d < 3; ++d) {
+    momScale = std::max(
+        {momScale, std::abs(totals0_.momentum[d]), t.momentumScale[d], totals0_.momentumScale[d]});
+    if (!judged[static_cast<std::size_t>(d)] || d >= Dim) continue;
+    anyJudged = true;
+    // Less the impulse of external forces (a confining pressure, damping, fixed bodies' supports).
+    const double expected =
+        totals0_.momentum[d] + method_->externalImpulse()[static_cast<std::size_t>(d)];
+    momErr = std::max(momErr, std::abs(t.momentum[d] - expected));
+  }
+  r.momErr = !anyJudged       ? std::numeric_limits<double>::quiet_NaN()
+             : momScale > 0.0 ? momErr / momScale
+                              : 0.0;
+  // What the total energy should be: the initial one plus the work of external forces (a
+  // confining pressure, damping), judged against the larger of it and the final one.
+  const double e0 = totals0_.total(), work = method_->externalWork();
+  r.energyErr =
+      std::abs(t.total() - e0 - work) / std::max({std::abs(e0), std::abs(t.total()), 1e-300});
+}
+
+// Collective: every rank calls it, in the same order of sums.
+template <int Dim>
+typename Simulation<Dim>::RunReport Simulation<Dim>::report(Clock::time_point wall0) {
+  const auto& st = method_->stats();
+  RunReport r;
+  r.wall = std::chrono::duration<double>(Clock::now() - wall0).count();
+  // The stepping rate of this job: checkpoint writing is reported on its own line.
+  r.steps = step_ - startStep_;
+  const double pSteps = static_cast<double>(particles()) * static_cast<double>(r.steps);
+  const double stepping = r.wall - st.phases[methods::kCheckpoint];
+  r.rate = stepping > 0.0 ? pSteps / stepping : 0.0;
+  conservationErrors(r);
+  r.peak = static_cast<std::size_t>(mpi_.sum(static_cast<double>(peakResidentBytes())));
+  r.base = static_cast<std::size_t>(mpi_.sum(static_cast<double>(baselineRss_)));
+  const double pairs = mpi_.sum(static_cast<double>(st.pairs));
+  // Memory by part: the bytes allocated where they live, over all ranks, per particle (the
+  // process's other memory, MPI's and HDF5's buffers among it, is in the RSS only).
+  std::vector<MemoryPart> parts = {{"particle_fields", store_.fieldBytes()}};
+  for (auto& part : method_->memoryParts()) parts.push_back(std::move(part));
+  parts.push_back({"rescue_copy", rescue_.rows.size()});
+  const double perParticle = 1.0 / std::max(1.0, static_cast<double>(particles()));
+  for (const auto& part : parts) {
+    const double b = mpi_.sum(static_cast<double>(part.bytes)) * perParticle;
+    r.accounted += b;
+    r.memory.emplace_back(part.name, b);
+  }
+  r.ghostFraction = mpi_.max(st.ghostFractionMax);
+  r.crossPairs = mpi_.sum(st.crossPairs) / 2;
+  r.meanNeighbors = st.evaluations > 0
+                        ? pairs / (static_cast<double>(st.evaluations) *
+                                   std::max<double>(1.0, static_cast<double>(particles())))
+                        : 0.0;
+  return r;
+}
+
+template <int Dim>
+void Simulation<Dim>::finish(RunLog& log, const RunOptions& options, Clock::time_point wall0,
+                             int stopSignal) {
+  const RunReport r = report(wall0);
+  log.summary(summaryLines(r, options, stopSignal));
+  if (mpi_.root()) writeSummary(r, options, stopSignal);
+}
+
+// The lines a run ends with, on the terminal and in the log.
+template <int Dim>
+std::vector<std::string>
+Simulation<Dim>::summaryLines(const RunReport& r, const RunOptions& options, int stopSignal) const {
+  const auto& st = method_->stats();
+  // The share of each stepping phase (checkpoints have their own line).
+  std::string shares;
+  for (int p = 0; p < methods::kCheckpoint; ++p)
+    shares += fmt::format("{}{} {:.1f}%", p ? " " : "", methods::kPhaseNames[p],
+                          100 * st.phases[static_cast<methods::Phase>(p)] / r.wall);
+  std::string memoryLine;
+  for (const auto& [name, b] : r.memory)
+    memoryLine += fmt::format("{}{} {:.0f}", memoryLine.empty() ? "" : ", ", name, b);
+  std::vector<std::string> lines = {
+      fmt::format("{}: {} steps to t = {:.6g} s (step {}) in {:.2f} s wall | {:.3g} "
+                  "particle-steps/s ({:.3g} per core)",
+                  stopSignal ? "stopped" : "done", r.steps, time_, step_, r.wall, r.rate,
+                  r.rate / cores()),
+      fmt::format(
+          "conservation: mass {:.1e} | momentum {} | total energy {:.1e} (relative)", r.massErr,
+          std::isnan(r.momErr) ? std::string("n/a (rigid walls)") : fmt::format("{:.1e}", r.momErr),
+          r.energyErr),
+      "time: " + shares};
+  if (st.listBuilds > 0)
+    lines.push_back(fmt::format("neighbors: {:.1f} per particle, searched {} times in {} "
+                                "evaluations (skin {:g})",
+                                r.meanNeighbors, st.listBuilds, st.evaluations,
+                                deck_.solver.neighbor_skin));
+  lines.push_back(fmt::format("memory: {:.0f} B/particle allocated ({})", r.accounted, memoryLine));
+  if (checkpointsWritten_ > 0)
+    lines.push_back(fmt::format(
+        "checkpoints: {} written, {:.1f} MB each ({:.0f} B/particle), {:.2f} s in all "
+        "({:.0f} MB/s); latest {}",
+        checkpointsWritten_, checkpointBytes_ / 1e6,
+        static_cast<double>(checkpointBytes_) /
+            std::max<double>(1.0, static_cast<double>(particles())),
+        checkpointWriteSeconds_,
+        checkpointWriteSeconds_ > 0 ? checkpointWriteBytes_ / 1e6 / checkpointWriteSeconds_ : 0.0,
+        (dir_ / "checkpoints" / checkpointFileName(lastCheckpointStep_)).string()));
+  if (stopSignal)
+    lines.push_back(fmt::format("stopped by {} at step {}: resume with\n  {}",
+                                StopSignals::name(stopSignal), step_, resumeCommand(options)));
+  if (mpi_.size() > 1)
+    lines.push_back(fmt::format(
+        "decomposition: {} {} on {} ranks | {} rebalances, cost max/mean {:.3f} | ghosts up to "
+        "{:.1f}% of a rank's particles, {} pairs across ranks | {} migrations, up to {} ranks in "
+        "one step{}",
+        deck_.decomposition.curve, deck_.decomposition.partitioner, mpi_.size(), st.rebalances,
+        st.imbalance, 100.0 * r.ghostFraction, r.crossPairs, st.migratedTotal, st.maxRankDistance,
+        st.metisEdgeCut >= 0 ? fmt::format(" | METIS edge cut {} pairs", st.metisEdgeCut) : ""));
+  lines.push_back(
+      fmt::format("output in {} (open snapshots/series.xmf in ParaView)", dir_.string()));
+  return lines;
+}
+
+// summary.json (rank 0).
+template <int Dim>
+void Simulation<Dim>::writeSummary(const RunReport& r, const RunOptions& options,
+                                   int stopSignal) const {
+  const auto& st = method_->stats();
+  const auto& phases = st.phases;
+  JsonObject memoryParts;
+  for (const auto& [name, b] : r.memory) memoryParts.value(name, fmt::format("{:.1f}", b));
+  memoryParts.value("accounted", fmt::format("{:.1f}", r.accounted));
+  JsonObject phaseSeconds;
+  for (int p = 0; p < methods::kPhaseCount; ++p)
+    phaseSeconds.value(methods::kPhaseNames[p], fixed6(phases[static_cast<methods::Phase>(p)]));
+  phaseSeconds.value("other", fixed6(std::max(0.0, r.wall - phases.total())));
+  JsonObject checkpoint;
+  checkpoint.value("written", fmt::format("{}", checkpointsWritten_))
+      .value("bytes", fmt::format("{}", checkpointBytes_))
+      .value("bytes_per_particle",
+             fmt::format("{:.1f}", static_cast<double>(checkpointBytes_) /
+                                       std::max<double>(1.0, static_cast<double>(particles()))))
+      .value("write_seconds", fixed6(checkpointWriteSeconds_))
+      .value("write_bytes", fmt::format("{}", checkpointWriteBytes_))
+      .value("read_seconds", fixed6(checkpointReadSeconds_))
+      .value("read_bytes", fmt::format("{}", checkpointReadBytes_))
+      .text("restarted_from", resumedFrom_)
+      .value("ranks_written", fmt::format("{}", checkpointRanks_));
+  JsonObject decomposition;
+  decomposition.text("curve", deck_.decomposition.curve)
+      .text("partitioner", deck_.decomposition.partitioner)
+      .value("rebalances", fmt::format("{}", st.rebalances))
+      .value("imbalance", fixed6(st.imbalance))
+      .value("ghost_fraction_max", fixed6(r.ghostFraction))
+      .value("migrated", fmt::format("{}", st.migratedTotal))
+      .value("max_rank_distance", fmt::format("{}", st.maxRankDistance))
+      .value("pairs_across_ranks", fmt::format("{}", r.crossPairs))
+      .value("metis_edge_cut", fmt::format("{}", st.metisEdgeCut))
+      .value("reproducible", deck_.decomposition.reproducible ? "true" : "false");
+  JsonObject conservation;
+  conservation.value("mass_relative", fmt::format("{:.6e}", r.massErr))
+      .value("momentum_relative", std::isnan(r.momErr) ? "null" : fmt::format("{:.6e}", r.momErr))
+      .value("energy_relative", fmt::format("{:.6e}", r.energyErr));
+  JsonObject summary;
+  summary.text("deck", options.deckPath)
+      .text("title", deck_.run.title)
+      .value("ranks", fmt::format("{}", mpi_.size()))
+      .value("threads_per_rank", fmt::format("{}", threadCount()))
+      .value("dimension", fmt::format("{}", Dim))
+      .value("particles", fmt::format("{}", particles()))
+      .value("steps", fmt::format("{}", step_))
+      .value("time", fmt::format("{:.17g}", time_))
+      .value("wall_seconds", fixed6(r.wall))
+      .value("particle_steps_per_second", fmt::format("{:.6g}", r.rate))
+      .value("particle_steps_per_second_per_core", fmt::format("{:.6g}", r.rate / cores()))
+      .text("status", stopSignal ? "stopped" : "finished")
+      .value("steps_this_run", fmt::format("{}", r.steps))
+      .value("mean_neighbors", fmt::format("{:.3f}", r.meanNeighbors))
+      .value("neighbor_searches", fmt::format("{}", st.listBuilds))
+      .value("evaluations", fmt::format("{}", st.evaluations))
+      .value("peak_rss_bytes", fmt::format("{}", r.peak))
+      .value("baseline_rss_bytes", fmt::format("{}", r.base))
+      .value("bytes_per_particle",
+             fmt::format("{:.1f}", particles() > 0
+                                       ? static_cast<double>(r.peak - std::min(r.peak, r.base)) /
+                                             static_cast<double>(particles())
+                                       : 0.0))
+      .object("memory_parts", memoryParts)
+      .object("phases", phaseSeconds)
+      .object("checkpoint", checkpoint)
+      .object("decomposition", decomposition)
+      .object("conservation", conservation);
+  std::ofstream(dir_ / "summary.json") << summary.str(true);
+}
+
+template class Simulation<1>;
+template class Simulation<2>;
+template class Simulation<3>;
+
+} // namespace spall::app
