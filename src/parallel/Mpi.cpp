@@ -1,7 +1,5 @@
 #include "spall/parallel/Mpi.hpp"
 
-#include <cstdlib>
-
 namespace spall::parallel {
 
 void broadcast(std::string& s, int root, MPI_Comm comm) {
@@ -48,12 +46,7 @@ void MpiContext::sumInRankOrder(std::span<double> values) const {
   }
 }
 
-void preferIsolatedSingleton() {
-  ::setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
-}
-
 MpiSession::MpiSession(int& argc, char**& argv) {
-  preferIsolatedSingleton();
   int provided = 0;
   MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
 }

@@ -4,8 +4,6 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
-#include "spall/parallel/Mpi.hpp"
-
 namespace {
 
 class MpiEnvironment : public ::testing::Environment {
@@ -14,7 +12,6 @@ public:
     int initialized = 0;
     MPI_Initialized(&initialized);
     if (!initialized) {
-      spall::parallel::preferIsolatedSingleton();
       int provided = 0;
       MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
       owner_ = true;

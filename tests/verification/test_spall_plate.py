@@ -59,7 +59,7 @@ with tempfile.TemporaryDirectory() as tmp:
         p = subprocess.run(cmd, capture_output=True, text=True, stdin=subprocess.DEVNULL)
         label = ", ".join(sets) or "shipped deck"
         if p.returncode != 0:
-            failures.append(f"{label}: exit {p.returncode}\n{p.stderr[-2000:]}")
+            check(False, f"{label}: exit {p.returncode}\n{p.stderr[-2000:]}")
             continue
         snaps = sorted((out / "snapshots").glob("snap_*.h5"))
         first, _ = load(snaps[0])

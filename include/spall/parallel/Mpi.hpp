@@ -76,12 +76,11 @@ template <class Error, class F> void onRoot(MPI_Comm comm, F&& f) {
   throw Error(message);
 }
 
-// Before MPI_Init: a process started without mpirun (a singleton: `spall check`, a one-rank
-// run, a unit test) is told it will never spawn, so that Open MPI starts no support daemon for it
-// (orted: ~0.2 s of each such start). A value the user set is kept; under mpirun it is unused.
-void preferIsolatedSingleton();
-
-// RAII MPI_Init_thread / MPI_Finalize for the executable (preferIsolatedSingleton first).
+// RAII MPI_Init_thread / MPI_Finalize for the executable. A process started without mpirun is an
+// ordinary Open MPI singleton: it starts its own support daemon (~0.2 s). Open MPI's "isolated"
+// singleton would save that, but all isolated singletons share one session directory
+// (jf.0/1), so concurrent one-rank runs delete each other's MPI-IO files there and their
+// snapshot writes fail (tests/cli/test_concurrent_runs.py).
 class MpiSession {
 public:
   MpiSession(int& argc, char**& argv);
