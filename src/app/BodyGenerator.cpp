@@ -25,41 +25,63 @@ template <int Dim> Vec<Dim> toVec(const std::vector<double>& a) {
 template <int Dim> struct Shape {
   const ShapeConfig& c;
   Vec<Dim> center() const {
-    if (c.type == "box") return 0.5 * (toVec<Dim>(c.min) + toVec<Dim>(c.max));
-    if (c.type == "cylinder")
+    switch (c.type) {
+    case ShapeType::Box:
+      return 0.5 * (toVec<Dim>(c.min) + toVec<Dim>(c.max));
+    case ShapeType::Cylinder:
       return toVec<Dim>(c.base) + 0.5 * c.length * toVec<Dim>(c.axis).normalized();
+    case ShapeType::Sphere:
+    case ShapeType::Ring:
+      break;
+    }
     return toVec<Dim>(c.center);
   }
   // Radius of a ball about center() that holds the shape.
   double extent() const {
-    if (c.type == "box") return 0.5 * (toVec<Dim>(c.max) - toVec<Dim>(c.min)).norm();
-    if (c.type == "cylinder") return std::hypot(c.radius, 0.5 * c.length);
-    if (c.type == "ring") return c.outer_radius;
+    switch (c.type) {
+    case ShapeType::Box:
+      return 0.5 * (toVec<Dim>(c.max) - toVec<Dim>(c.min)).norm();
+    case ShapeType::Cylinder:
+      return std::hypot(c.radius, 0.5 * c.length);
+    case ShapeType::Ring:
+      return c.outer_radius;
+    case ShapeType::Sphere:
+      break;
+    }
     return c.radius;
   }
   // Length, area or volume (Dim).
   double measure() const {
     const double pi = std::numbers::pi;
-    if (c.type == "box") return (toVec<Dim>(c.max) - toVec<Dim>(c.min)).prod();
-    if (c.type == "cylinder") return pi * c.radius * c.radius * c.length;
-    if (c.type == "ring")
+    switch (c.type) {
+    case ShapeType::Box:
+      return (toVec<Dim>(c.max) - toVec<Dim>(c.min)).prod();
+    case ShapeType::Cylinder:
+      return pi * c.radius * c.radius * c.length;
+    case ShapeType::Ring:
       return pi * (c.outer_radius * c.outer_radius - c.inner_radius * c.inner_radius);
+    case ShapeType::Sphere:
+      break;
+    }
     return Dim == 1   ? 2.0 * c.radius
            : Dim == 2 ? pi * c.radius * c.radius
                       : 4.0 / 3.0 * pi * std::pow(c.radius, 3);
   }
   bool contains(const Vec<Dim>& x) const {
-    if (c.type == "box") {
+    switch (c.type) {
+    case ShapeType::Box:
       for (int d = 0; d < Dim; ++d)
         if (x[d] < c.min[d] || x[d] >= c.max[d]) return false;
       return true;
-    }
-    if (c.type == "sphere") return (x - toVec<Dim>(c.center)).norm() < c.radius;
-    if (c.type == "ring") {
+    case ShapeType::Sphere:
+      return (x - toVec<Dim>(c.center)).norm() < c.radius;
+    case ShapeType::Ring: {
       const double r = (x - toVec<Dim>(c.center)).norm();
       return r >= c.inner_radius && r < c.outer_radius;
     }
-    // cylinder
+    case ShapeType::Cylinder:
+      break;
+    }
     const Vec<Dim> axis = toVec<Dim>(c.axis).normalized();
     const Vec<Dim> rel = x - toVec<Dim>(c.base);
     const double t = rel.dot(axis);
@@ -200,7 +222,8 @@ template <int Dim> std::vector<Site<Dim>> latticeSites(const Deck& deck, const B
       for (int c = 0; c < Dim; ++c) A(r, c) = (*body.lattice_transform)[r][c];
   const double detA = std::abs(A.determinant());
   std::vector<Site<Dim>> out;
-  if (body.shape.type == "box" && body.lattice == "cubic" && !body.lattice_transform) {
+  if (body.shape.type == ShapeType::Box && body.lattice == Lattice::Cubic &&
+      !body.lattice_transform) {
     // Fill the box exactly: n_k = round(L_k/dx) cells, spacing adjusted to L_k/n_k.
     Vec<Dim> lo = toVec<Dim>(body.shape.min), hi = toVec<Dim>(body.shape.max), step;
     std::int64_t n[3] = {1, 1, 1};
@@ -228,7 +251,8 @@ template <int Dim> std::vector<Site<Dim>> latticeSites(const Deck& deck, const B
     // one not, by rounding); half a spacing along the axis puts them half a spacing inside,
     // as for an even count (a Taylor bar then starts in contact with its wall at any
     // resolution).
-    if (body.shape.type == "cylinder" && body.lattice == "cubic" && !body.lattice_transform) {
+    if (body.shape.type == ShapeType::Cylinder && body.lattice == Lattice::Cubic &&
+        !body.lattice_transform) {
       const Vec<Dim> axis = toVec<Dim>(body.shape.axis).normalized();
       const double layers = body.shape.length / dx, nearest = std::round(layers);
       const bool odd = std::abs(layers - nearest) < 1e-6 * layers && std::fmod(nearest, 2.0) == 1.0;
@@ -237,11 +261,12 @@ template <int Dim> std::vector<Site<Dim>> latticeSites(const Deck& deck, const B
     }
     // |A^-1|_F bounds the operator norm of A^-1 from above: a conservative cover.
     const double radius = shape.extent() * A.inverse().norm();
-    const double volume =
-        forEachLatticeSite<Dim>(body.lattice == "hexagonal", dx, radius, [&](const Vec<Dim>& site) {
-          const Vec<Dim> x = c + A * site;
-          if (shape.contains(x) && (!rz || x[0] > 0.0)) out.push_back({x, 0.0});
-        });
+    const double volume = forEachLatticeSite<Dim>(body.lattice == Lattice::Hexagonal, dx, radius,
+                                                  [&](const Vec<Dim>& site) {
+                                                    const Vec<Dim> x = c + A * site;
+                                                    if (shape.contains(x) && (!rz || x[0] > 0.0))
+                                                      out.push_back({x, 0.0});
+                                                  });
     for (auto& s : out) s.volume = volume * detA;
   }
   return out;
@@ -299,10 +324,11 @@ double fillBody(const Deck& deck, const std::vector<materials::Material>& materi
         },
         model.eos);
     if (!ep) {
-      throw DeckError(body.where, fmt::format("body '{}': initial_pressure cannot be set with the "
-                                              "'{}' EOS of material '{}' (its pressure does not "
-                                              "depend on the internal energy); use initial_density",
-                                              body.name, material.eos.type, material.name));
+      throw DeckError(body.where,
+                      fmt::format("body '{}': initial_pressure cannot be set with the "
+                                  "'{}' EOS of material '{}' (its pressure does not "
+                                  "depend on the internal energy); use initial_density",
+                                  body.name, kEosNames(material.eos.type), material.name));
     }
     e0 = *ep;
   }

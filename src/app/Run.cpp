@@ -95,7 +95,8 @@ template <int Dim> void checkDim(const Deck& deck, const parallel::MpiContext& m
   fmt::print("  particles  {}\n  memory     ~{:.1f} MB (estimate)\n", sim.particles(),
              sim.memoryEstimate() / 1048576.0);
   fmt::print("  first dt   {:.4g} s ({}; end time {:.6g} s)\n", dt,
-             deck.solver.method == "mpm" ? "the grid's" : "before viscosity", deck.run.end_time);
+             deck.solver.method == SolverMethod::Mpm ? "the grid's" : "before viscosity",
+             deck.run.end_time);
   fmt::print("  output     {}\n", deck.output.directory);
   for (const auto& w : sim.warnings()) fmt::print("  warning    {}\n", w);
 }

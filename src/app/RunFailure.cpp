@@ -201,8 +201,8 @@ std::string Simulation<Dim>::failureText(const StepFailure& failure,
         (dir_ / stem).string(), (dir_ / "deck.toml").string(), material.name);
   // What usually causes it, judged from the particle.
   FailureSigns signs;
-  signs.mpm = deck_.solver.method == "mpm";
-  signs.asph = deck_.solver.method == "asph";
+  signs.mpm = deck_.solver.method == SolverMethod::Mpm;
+  signs.asph = deck_.solver.method == SolverMethod::Asph;
   signs.frictionless = deck_.solver.contact == Contact::Frictionless;
   signs.nonFinite = f.kind == ParticleReport::Kind::NonFinite;
   signs.energy = f.kind == ParticleReport::Kind::Energy;

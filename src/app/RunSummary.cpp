@@ -88,7 +88,7 @@ template <int Dim> void Simulation<Dim>::conservationErrors(RunReport& r) const 
   // booked, so the components along its normal are left out. None left: not judged (NaN).
   std::array<bool, 3> judged{deck_.run.geometry != Geometry::RZ, true, true};
   for (const auto& b : deck_.boundaries)
-    if (b.type == "rigid_wall")
+    if (b.type == BoundaryType::RigidWall)
       for (std::size_t d = 0; d < std::min<std::size_t>(3, b.normal.size()); ++d)
         if (b.normal[d] != 0.0) judged[d] = false;
   bool anyJudged = false;
@@ -202,8 +202,9 @@ Simulation<Dim>::summaryLines(const RunReport& r, const RunOptions& options, int
         "decomposition: {} {} on {} ranks | {} rebalances, cost max/mean {:.3f} | ghosts up to "
         "{:.1f}% of a rank's particles, {} pairs across ranks | {} migrations, up to {} ranks in "
         "one step{}",
-        deck_.decomposition.curve, deck_.decomposition.partitioner, mpi_.size(), st.rebalances,
-        st.imbalance, 100.0 * r.ghostFraction, r.crossPairs, st.migratedTotal, st.maxRankDistance,
+        kCurveNames(deck_.decomposition.curve), kPartitionerNames(deck_.decomposition.partitioner),
+        mpi_.size(), st.rebalances, st.imbalance, 100.0 * r.ghostFraction, r.crossPairs,
+        st.migratedTotal, st.maxRankDistance,
         st.metisEdgeCut >= 0 ? fmt::format(" | METIS edge cut {} pairs", st.metisEdgeCut) : ""));
   lines.push_back(
       fmt::format("output in {} (open snapshots/series.xmf in ParaView)", dir_.string()));
@@ -236,8 +237,8 @@ void Simulation<Dim>::writeSummary(const RunReport& r, const RunOptions& options
       .text("restarted_from", resumedFrom_)
       .value("ranks_written", fmt::format("{}", checkpointRanks_));
   JsonObject decomposition;
-  decomposition.text("curve", deck_.decomposition.curve)
-      .text("partitioner", deck_.decomposition.partitioner)
+  decomposition.text("curve", std::string(kCurveNames(deck_.decomposition.curve)))
+      .text("partitioner", std::string(kPartitionerNames(deck_.decomposition.partitioner)))
       .value("rebalances", fmt::format("{}", st.rebalances))
       .value("imbalance", fixed6(st.imbalance))
       .value("ghost_fraction_max", fixed6(r.ghostFraction))

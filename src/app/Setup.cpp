@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <fmt/format.h>
 #include <limits>
+#include <stdexcept>
 
 namespace spall::app {
 
@@ -25,18 +26,32 @@ namespace {
 
 materials::Eos buildEos(const MaterialConfig& m) {
   const auto& c = m.eos;
-  if (c.type == "ideal_gas") return materials::IdealGas{c.gamma};
-  if (c.type == "linear") return materials::LinearEos{m.density, c.bulk_modulus};
-  if (c.type == "mie_gruneisen") return materials::MieGruneisen{m.density, c.c0, c.s, c.gamma0};
-  return materials::Tillotson{m.density, c.a, c.b, c.A, c.B, c.alpha, c.beta, c.e0, c.e_iv, c.e_cv};
+  switch (c.type) {
+  case EosType::IdealGas:
+    return materials::IdealGas{c.gamma};
+  case EosType::Linear:
+    return materials::LinearEos{m.density, c.bulk_modulus};
+  case EosType::MieGruneisen:
+    return materials::MieGruneisen{m.density, c.c0, c.s, c.gamma0};
+  case EosType::Tillotson:
+    return materials::Tillotson{m.density, c.a,    c.b,  c.A,    c.B,
+                                c.alpha,   c.beta, c.e0, c.e_iv, c.e_cv};
+  }
+  throw std::logic_error("internal: an eos type without a model");
 }
 
 std::optional<materials::Strength> buildStrength(const StrengthConfig& c) {
-  if (c.type == "elastic") return materials::Elastic{c.shear_modulus};
-  if (c.type == "von_mises") return materials::VonMises{c.shear_modulus, c.yield_stress};
   // Designated initializers: the deck's names meet the model's, and a swapped pair cannot compile
   // silently into the other's place.
-  if (c.type == "johnson_cook")
+  switch (c.type) {
+  case StrengthType::None:
+  case StrengthType::Cap: // its own module (buildCap)
+    return std::nullopt;
+  case StrengthType::Elastic:
+    return materials::Elastic{c.shear_modulus};
+  case StrengthType::VonMises:
+    return materials::VonMises{c.shear_modulus, c.yield_stress};
+  case StrengthType::JohnsonCook:
     return materials::JohnsonCook{.G = c.shear_modulus,
                                   .A = c.A,
                                   .B = c.B,
@@ -48,8 +63,8 @@ std::optional<materials::Strength> buildStrength(const StrengthConfig& c) {
                                   .Tmelt = c.melt_temperature,
                                   .cp = c.specific_heat,
                                   .chi = c.taylor_quinney,
-                                  .plasticRate = c.strain_rate == "plastic"};
-  if (c.type == "zerilli_armstrong")
+                                  .plasticRate = c.strain_rate == StrainRate::Plastic};
+  case StrengthType::ZerilliArmstrong:
     return materials::ZerilliArmstrong{.G = c.shear_modulus,
                                        .C0 = c.C0,
                                        .C1 = c.C1,
@@ -62,13 +77,18 @@ std::optional<materials::Strength> buildStrength(const StrengthConfig& c) {
                                        .Troom = c.room_temperature,
                                        .cp = c.specific_heat,
                                        .chi = c.taylor_quinney};
-  return std::nullopt;
+  }
+  throw std::logic_error("internal: a strength type without a model");
 }
 
 std::optional<materials::Damage> buildDamage(const DamageConfig& c) {
-  if (c.type == "grady_kipp")
-    return materials::GradyKipp{c.weibull_k, c.weibull_m, c.crack_speed, c.mode == "tensor"};
-  if (c.type == "johnson_cook")
+  switch (c.type) {
+  case DamageType::None:
+    return std::nullopt;
+  case DamageType::GradyKipp:
+    return materials::GradyKipp{c.weibull_k, c.weibull_m, c.crack_speed,
+                                c.mode == DamageMode::Tensor};
+  case DamageType::JohnsonCook:
     return materials::JohnsonCookDamage{c.D1,
                                         c.D2,
                                         c.D3,
@@ -77,12 +97,13 @@ std::optional<materials::Damage> buildDamage(const DamageConfig& c) {
                                         c.reference_strain_rate,
                                         c.room_temperature,
                                         c.melt_temperature};
-  return std::nullopt;
+  }
+  throw std::logic_error("internal: a damage type without a model");
 }
 
 std::optional<materials::CapPlasticity> buildCap(const MaterialConfig& m) {
   const StrengthConfig& c = m.strength;
-  if (c.type != "cap") return std::nullopt;
+  if (c.type != StrengthType::Cap) return std::nullopt;
   materials::CapPlasticity cap;
   cap.rho0 = m.density;
   cap.K = c.bulk_modulus;
@@ -103,7 +124,7 @@ std::optional<materials::CapPlasticity> buildCap(const MaterialConfig& m) {
 std::optional<materials::PAlpha> buildPorosity(const MaterialConfig& mc,
                                                const materials::Eos& eos) {
   const PorosityConfig& c = mc.porosity;
-  if (c.type != "p_alpha") return std::nullopt;
+  if (c.type != PorosityType::PAlpha) return std::nullopt;
   materials::PAlpha m;
   if (c.elastic_sound_speed > 0.0) { // Herrmann's elastic distension (materials/Porosity.hpp)
     m.cs0 = std::visit([&](const auto& e) { return e.evaluate(mc.density, 0.0).cs; }, eos);
@@ -148,22 +169,16 @@ std::optional<materials::PAlpha> buildPorosity(const MaterialConfig& mc,
   return m;
 }
 
-materials::Erosion erosionOf(const std::string& name) {
-  if (name == "no_tension") return materials::Erosion::NoTension;
-  if (name == "no_shear") return materials::Erosion::NoShear;
-  if (name == "zero_stress") return materials::Erosion::ZeroStress;
-  return materials::Erosion::None;
-}
-
 } // namespace
 
 std::vector<materials::Material> buildMaterials(const Deck& deck) {
   std::vector<materials::Material> out;
   for (const auto& m : deck.materials) {
     // A cap material has no eos (DeckMaterial.cpp): its placeholder is never evaluated.
-    const materials::Eos eos = m.strength.type == "cap" ? materials::Eos{} : buildEos(m);
-    out.push_back({eos, buildStrength(m.strength), buildDamage(m.damage), erosionOf(m.erosion),
-                   buildCap(m), buildPorosity(m, eos), m.eos.min_pressure});
+    const materials::Eos eos =
+        m.strength.type == StrengthType::Cap ? materials::Eos{} : buildEos(m);
+    out.push_back({eos, buildStrength(m.strength), buildDamage(m.damage), m.erosion, buildCap(m),
+                   buildPorosity(m, eos), m.eos.min_pressure});
   }
   return out;
 }
@@ -171,8 +186,9 @@ std::vector<materials::Material> buildMaterials(const Deck& deck) {
 template <int Dim>
 std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck) {
   const auto& solver = deck.solver;
-  const bool solids = std::any_of(deck.materials.begin(), deck.materials.end(),
-                                  [](const auto& m) { return m.strength.type != "none"; });
+  const bool solids = std::any_of(deck.materials.begin(), deck.materials.end(), [](const auto& m) {
+    return m.strength.type != StrengthType::None;
+  });
   if (!solids && (solver.artificial_stress.enabled || solver.artificial_viscosity.reconstruct ||
                   solver.velocity_gradient != VelocityGradient::Sph))
     throw DeckError(solver.where,
@@ -187,7 +203,8 @@ std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck
 
   // The list: one line a module, in this order (the order their fields are registered in).
   std::vector<std::unique_ptr<methods::Module<Dim>>> list;
-  const bool mpm = solver.method == "mpm"; // no pair loop: no viscosity, correction, contact
+  const bool mpm =
+      solver.method == SolverMethod::Mpm; // no pair loop: no viscosity, correction, contact
   list.push_back(std::make_unique<methods::Hydro<Dim>>());
   if (mpm)
     list.push_back(std::make_unique<methods::MaterialPoints<Dim>>(deck.run.geometry == Geometry::RZ,
@@ -200,36 +217,37 @@ std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck
   std::vector<std::optional<materials::GradyKipp>> flaws;
   bool damage = false;
   for (const auto& m : deck.materials) {
-    damage = damage || m.damage.type != "none";
+    damage = damage || m.damage.type != DamageType::None;
     const auto model = buildDamage(m.damage);
     const auto* g = model ? std::get_if<materials::GradyKipp>(&*model) : nullptr;
     flaws.push_back(g ? std::optional<materials::GradyKipp>(*g) : std::nullopt);
   }
   if (damage) list.push_back(std::make_unique<methods::Damage<Dim>>(flaws, deck.run.seed));
   if (std::any_of(deck.materials.begin(), deck.materials.end(),
-                  [](const auto& m) { return m.strength.type == "cap"; }))
+                  [](const auto& m) { return m.strength.type == StrengthType::Cap; }))
     list.push_back(std::make_unique<methods::CapPlasticity<Dim>>());
   if (std::any_of(deck.materials.begin(), deck.materials.end(),
-                  [](const auto& m) { return m.porosity.type != "none"; })) {
+                  [](const auto& m) { return m.porosity.type != PorosityType::None; })) {
     std::vector<double> alpha0;
     for (const auto& m : deck.materials)
-      alpha0.push_back(m.porosity.type != "none" ? m.porosity.alpha0 : 1.0);
+      alpha0.push_back(m.porosity.type != PorosityType::None ? m.porosity.alpha0 : 1.0);
     const bool elastic =
         std::any_of(deck.materials.begin(), deck.materials.end(), [](const auto& m) {
-          return m.porosity.type != "none" && m.porosity.elastic_sound_speed > 0.0;
+          return m.porosity.type != PorosityType::None && m.porosity.elastic_sound_speed > 0.0;
         });
     list.push_back(std::make_unique<methods::PAlpha<Dim>>(alpha0, elastic));
   }
   if (solids && solver.velocity_gradient == VelocityGradient::Corrected && !mpm)
     list.push_back(std::make_unique<methods::KernelCorrection<Dim>>());
-  if (solver.method == "asph") list.push_back(std::make_unique<methods::SmoothingTensor<Dim>>());
+  if (solver.method == SolverMethod::Asph)
+    list.push_back(std::make_unique<methods::SmoothingTensor<Dim>>());
   // MPM: "auto" is the grid's single velocity field (Uintah's default; the multi-field contact
   // is the explicit "frictionless": decks/topics/mpm.md).
   if (solver.contact == Contact::Frictionless || (solver.contact == Contact::Auto && !mpm))
     list.push_back(std::make_unique<methods::FrictionlessContact<Dim>>());
   std::vector<typename methods::ConfiningPressure<Dim>::Load> loads;
   for (const auto& b : deck.boundaries)
-    if (b.type == "pressure") loads.push_back({b.bodyIndex, b.pressure});
+    if (b.type == BoundaryType::Pressure) loads.push_back({b.bodyIndex, b.pressure});
   if (!loads.empty()) list.push_back(std::make_unique<methods::ConfiningPressure<Dim>>(loads));
   if (deck.damping)
     list.push_back(std::make_unique<methods::VelocityDamping<Dim>>(deck.damping->coefficient,
@@ -259,7 +277,7 @@ methods::MethodSetup methodSetup(const Deck& deck) {
     // image its images (the corner where a Taylor bar's axis meets its wall); for MPM a node
     // plane whose nodes keep no radial velocity.
     BoundaryConfig axis;
-    axis.type = "rigid_wall";
+    axis.type = BoundaryType::RigidWall;
     axis.point = {0.0, 0.0};
     axis.normal = {1.0, 0.0};
     axis.fold = true;
@@ -269,7 +287,7 @@ methods::MethodSetup methodSetup(const Deck& deck) {
     if (deck.bodies[b].fixed) s.fixedBodies.push_back(static_cast<std::int32_t>(b));
   s.reproducible = deck.decomposition.reproducible;
   s.imbalanceThreshold = deck.decomposition.imbalance_threshold;
-  if (deck.solver.method != "mpm") return s;
+  if (deck.solver.method != SolverMethod::Mpm) return s;
   double finest = std::numeric_limits<double>::infinity(), coarsest = 0.0;
   for (const auto& b : deck.bodies) {
     finest = std::min(finest, b.spacing / deck.run.resolution);
@@ -296,43 +314,14 @@ methods::MethodSetup methodSetup(const Deck& deck) {
 
 std::string methodSummary(const Deck& deck) {
   const auto& s = deck.solver;
-  if (s.method == "mpm") {
+  if (s.method == SolverMethod::Mpm) {
     const auto m = methodSetup(deck).solver.mpm;
-    return fmt::format("mpm {} cell {:.4g} m {}",
-                       m.shape == MpmShape::Linear   ? "linear"
-                       : m.shape == MpmShape::Cpdi   ? "cpdi"
-                       : m.shape == MpmShape::CpGimp ? "cpgimp"
-                                                     : "gimp",
-                       m.cell_size,
+    return fmt::format("mpm {} cell {:.4g} m {}", kMpmShapeNames(m.shape), m.cell_size,
                        m.transfer == MpmTransfer::Apic ? std::string("apic")
                                                        : fmt::format("flip {:g}", m.flip));
   }
-  return fmt::format("{} {} n_h {:g} | density {}", s.method, kernelName(s.kernel), s.nodes_per_h,
-                     densityName(s.density));
-}
-
-const char* kernelName(KernelType k) {
-  switch (k) {
-  case KernelType::CubicSpline:
-    return "cubic_spline";
-  case KernelType::WendlandC2:
-    return "wendland_c2";
-  case KernelType::WendlandC4:
-    return "wendland_c4";
-  }
-  return "?";
-}
-
-const char* densityName(DensityMethod d) {
-  switch (d) {
-  case DensityMethod::Continuity:
-    return "continuity";
-  case DensityMethod::Summation:
-    return "summation";
-  case DensityMethod::NormalizedSummation:
-    return "normalized_summation";
-  }
-  return "?";
+  return fmt::format("{} {} n_h {:g} | density {}", kSolverMethodNames(s.method),
+                     kKernelNames(s.kernel), s.nodes_per_h, kDensityNames(s.density));
 }
 
 template std::vector<std::unique_ptr<methods::Module<1>>> buildModules<1>(const Deck&);

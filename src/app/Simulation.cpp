@@ -35,21 +35,21 @@ Simulation<Dim>::Simulation(const Deck& deck, const parallel::MpiContext& mpi)
   cost_ = store_.add<std::int32_t>("cost", kCheckpoint);
   if (deck.fragments) f_.fragment = store_.add<std::int64_t>("fragment", kOutput);
   parallel::DecompositionConfig dc;
-  dc.curve =
-      deck.decomposition.curve == "morton" ? parallel::Curve::Morton : parallel::Curve::Hilbert;
-  dc.metis = deck.decomposition.partitioner == "metis";
+  dc.curve = deck.decomposition.curve == CurveType::Morton ? parallel::Curve::Morton
+                                                           : parallel::Curve::Hilbert;
+  dc.metis = deck.decomposition.partitioner == Partitioner::Metis;
   dc.rebalanceEvery = deck.decomposition.rebalance_every;
   dc.imbalanceThreshold = deck.decomposition.imbalance_threshold;
   decomposition_ =
       std::make_unique<parallel::Decomposition<Dim>>(mpi.comm(), dc, f_.id, f_.x, cost_);
   methods::MethodSetup setup = methodSetup(deck);
-  if (deck.solver.method == "mpm" && deck.solver.contact == Contact::Frictionless)
+  if (deck.solver.method == SolverMethod::Mpm && deck.solver.contact == Contact::Frictionless)
     warnThinBodies(setup.solver.mpm.cell_size);
   setup.note = [this](const std::string& line) {
     if (log_) log_->note(line);
   };
   materials::MaterialUpdate update(materials_, deck_.run.seed);
-  if (deck.solver.method == "mpm")
+  if (deck.solver.method == SolverMethod::Mpm)
     method_ = std::make_unique<methods::MpmMethod<Dim>>(mpi, std::move(setup), std::move(update),
                                                         std::move(modules), store_, f_, cost_,
                                                         *decomposition_);
@@ -82,10 +82,10 @@ Simulation<Dim>::Simulation(const Deck& deck, const parallel::MpiContext& mpi)
   // With the plain SPH velocity gradient a solid's strain rate under-reads where the support is
   // cut, and a confined body settles with stresses off the load (decks/README.md).
   for (const auto& b : deck_.boundaries)
-    if (b.type == "pressure" &&
+    if (b.type == BoundaryType::Pressure &&
         deck_.materials[static_cast<std::size_t>(
                             deck_.bodies[static_cast<std::size_t>(b.bodyIndex)].material_index)]
-                .strength.type != "none" &&
+                .strength.type != StrengthType::None &&
         deck_.solver.velocity_gradient != VelocityGradient::Corrected)
       deferredWarnings_.push_back(fmt::format(
           "{}:{}: body '{}' has strength and a pressure boundary, but solver.velocity_gradient "
@@ -138,8 +138,9 @@ template <int Dim> void Simulation<Dim>::resume(const RestartCandidates& candida
       }
       const bool sameLayout =
           static_cast<int>(header.rankCounts.size()) == mpi_.size() &&
-          header.state.text("decomposition_curve") == deck_.decomposition.curve &&
-          header.state.text("decomposition_partitioner") == deck_.decomposition.partitioner;
+          header.state.text("decomposition_curve") == kCurveNames(deck_.decomposition.curve) &&
+          header.state.text("decomposition_partitioner") ==
+              kPartitionerNames(deck_.decomposition.partitioner);
       const std::uint64_t bytes =
           io::readCheckpointParticles(mpi_.comm(), header, store_, sameLayout);
       restoreState(header, sameLayout);
@@ -173,7 +174,7 @@ template <int Dim> std::size_t Simulation<Dim>::memoryEstimate() const {
 
 template <int Dim> double Simulation<Dim>::firstTimeStep() const {
   // MPM's limit needs no force evaluation: the method's own (collective, as here).
-  if (deck_.solver.method == "mpm") return method_->stableTimeStep(0.0, 0, 0.0);
+  if (deck_.solver.method == SolverMethod::Mpm) return method_->stableTimeStep(0.0, 0, 0.0);
   const auto h = store_[f_.h];
   const auto cs = store_[f_.cs];
   const auto v = store_[f_.v];
@@ -226,8 +227,9 @@ io::CheckpointState Simulation<Dim>::saveState(double dtNext, double wall) const
   st.reals["decomposition_box"] = d.box;
   st.unsignedIntegers["decomposition_begins"] = d.begins;
   st.integers["decomposition_owners"] = d.owners;
-  st.texts["decomposition_curve"] = deck_.decomposition.curve;
-  st.texts["decomposition_partitioner"] = deck_.decomposition.partitioner;
+  st.texts["decomposition_curve"] = std::string(kCurveNames(deck_.decomposition.curve));
+  st.texts["decomposition_partitioner"] =
+      std::string(kPartitionerNames(deck_.decomposition.partitioner));
   st.integers["bodies_waiting"] = std::vector<std::int64_t>(waiting_.begin(), waiting_.end());
   if (penetration_) penetration_->save(st);
   method_->save(st);
@@ -414,15 +416,21 @@ template <int Dim> void Simulation<Dim>::warnThinBodies(double cell) {
   for (const auto& b : deck_.bodies) {
     const ShapeConfig& s = b.shape;
     double width = std::numeric_limits<double>::infinity();
-    if (s.type == "box")
+    switch (s.type) {
+    case ShapeType::Box:
       for (std::size_t a = 0; a < s.min.size() && a < s.max.size(); ++a)
         width = std::min(width, s.max[a] - s.min[a]);
-    else if (s.type == "sphere")
+      break;
+    case ShapeType::Sphere:
       width = 2.0 * s.radius;
-    else if (s.type == "cylinder")
+      break;
+    case ShapeType::Cylinder:
       width = std::min(2.0 * s.radius, s.length);
-    else if (s.type == "ring")
+      break;
+    case ShapeType::Ring:
       width = s.outer_radius - s.inner_radius;
+      break;
+    }
     if (width < 2.0 * cell) thin.push_back(fmt::format("'{}' {:.3g} m", b.name, width));
   }
   if (thin.empty()) return;

@@ -7,6 +7,7 @@
 #include "spall/core/Error.hpp"
 #include "spall/core/Threads.hpp"
 #include "spall/io/Deck.hpp"
+#include "spall/io/DeckKeys.hpp"
 #include "spall/parallel/Mpi.hpp"
 
 #include <CLI/CLI.hpp>
@@ -53,6 +54,13 @@ int main(int argc, char** argv) {
       cli.add_subcommand("check", "parse and validate a deck, print a summary; runs nothing");
   checkCmd->add_option("deck", checkDeckPath, "deck file (TOML)")->required();
   checkCmd->add_option("--set", checkOverrides, "override a deck value: KEY=VALUE");
+
+  bool keysMarkdown = false;
+  std::string keysPrefix;
+  auto* keysCmd = cli.add_subcommand(
+      "keys", "every deck key: path, type, default, unit, accepted values, meaning");
+  keysCmd->add_option("prefix", keysPrefix, "only the keys whose path begins so (e.g. solver.)");
+  keysCmd->add_flag("--markdown", keysMarkdown, "the page decks/keys.md (all keys)");
 
   auto* infoCmd =
       cli.add_subcommand("info", "version, git revision, compiler, MPI, HDF5, METIS, features");
@@ -103,6 +111,12 @@ int main(int argc, char** argv) {
   try {
     if (*infoCmd) {
       if (mpi.root()) fmt::print("{}", spall::app::infoText());
+      return 0;
+    }
+    if (*keysCmd) {
+      const std::string text = spall::io::formatDeckKeys(keysMarkdown, keysPrefix);
+      if (text.empty()) throw spall::UsageError("no deck key begins with '" + keysPrefix + "'");
+      if (mpi.root()) fmt::print("{}", text);
       return 0;
     }
     if (*elementCmd) {

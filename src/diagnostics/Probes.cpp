@@ -147,7 +147,7 @@ void Probes<Dim>::attach(const ParticleStore& s, const ParticleFields<Dim>& f,
   const auto x = s[f.x];
   const auto id = s[f.id];
   for (auto& p : probes_) {
-    if (p.config.track != "material") continue;
+    if (p.config.track != ProbeTrack::Material) continue;
     Vec<Dim> at;
     for (int d = 0; d < Dim; ++d) at[d] = p.config.position[d];
     double best = std::numeric_limits<double>::infinity();
@@ -174,7 +174,7 @@ std::vector<ProbeSample> Probes<Dim>::sample(const ParticleStore& s, const Parti
     // The particles that hold the probe's value here and their weights: the one a material probe
     // follows (weight 1), or those whose support covers a space probe's point.
     who_.clear(), weight_.clear();
-    if (p.config.track == "material") {
+    if (p.config.track == ProbeTrack::Material) {
       std::size_t i = p.cachedIndex;
       if (i >= s.localCount() || id[i] != p.particle) {
         i = s.localCount();

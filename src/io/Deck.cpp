@@ -83,8 +83,7 @@ private:
   // The index of the body `name` names (key `key` of r), or a DeckError with a did-you-mean.
   std::int32_t bodyIndex(const TableReader& r, std::string_view key, const std::string& name,
                          const std::vector<BodyConfig>& bodies) const;
-  void readOutput(const TableReader& r, OutputConfig& o, double endTime,
-                  const std::string& method) const;
+  void readOutput(const TableReader& r, OutputConfig& o, double endTime, SolverMethod method) const;
   void readCheckpoint(const TableReader& r, CheckpointConfig& c) const;
   void readFragments(const TableReader& r, FragmentsConfig& c, const SolverConfig& s) const;
   void readPenetration(const TableReader& r, PenetrationConfig& c,
@@ -153,7 +152,7 @@ void DeckReader::read(Deck& deck) {
   // comparable to the flow stress (a Taylor bar's face comes out 10% narrow; decks/README.md).
   const bool solids =
       std::any_of(deck.materials.begin(), deck.materials.end(),
-                  [](const MaterialConfig& m) { return m.strength.type != "none"; });
+                  [](const MaterialConfig& m) { return m.strength.type != StrengthType::None; });
   if (!deck.solver.artificial_stress.given) deck.solver.artificial_stress.enabled = solids;
   if (!deck.solver.artificial_viscosity.reconstructGiven)
     deck.solver.artificial_viscosity.reconstruct = solids;
@@ -164,7 +163,8 @@ void DeckReader::read(Deck& deck) {
           [&](const TableReader& r, BoundaryConfig& b) { readBoundary(r, b, deck.bodies); });
   for (std::size_t i = 0; i < deck.boundaries.size(); ++i)
     for (std::size_t k = 0; k < i; ++k)
-      if (deck.boundaries[i].type == "pressure" && deck.boundaries[k].type == "pressure" &&
+      if (deck.boundaries[i].type == BoundaryType::Pressure &&
+          deck.boundaries[k].type == BoundaryType::Pressure &&
           deck.boundaries[i].bodyIndex == deck.boundaries[k].bodyIndex)
         throw DeckError(deck.boundaries[i].where,
                         "body '" + deck.boundaries[i].body +
@@ -241,8 +241,8 @@ void DeckReader::readRun(const TableReader& r, RunConfig& run) {
 
 void DeckReader::readDecomposition(const TableReader& r, DecompositionConfig& d) const {
   r.allowOnly(*dd::schemaKeys("decomposition"));
-  d.curve = r.choice("curve", {"hilbert", "morton"}, d.curve);
-  d.partitioner = r.choice("partitioner", {"sfc", "metis"}, d.partitioner);
+  d.curve = r.choice("curve", kCurveNames, d.curve);
+  d.partitioner = r.choice("partitioner", kPartitionerNames, d.partitioner);
   if (const auto v = r.integer("rebalance_every"))
     d.rebalance_every = toInt(r, "rebalance_every", *v, 0);
   d.imbalance_threshold = r.number("imbalance_threshold").value_or(d.imbalance_threshold);
@@ -263,7 +263,7 @@ void DeckReader::readBody(const TableReader& r, const std::vector<MaterialConfig
   readShape(reader(*shape, r.context().child("shape")), b.shape);
   b.spacing = r.required(r.number("spacing"), "spacing");
   r.check(b.spacing > 0.0, "spacing", "> 0", b.spacing);
-  b.lattice = r.choice("lattice", {"cubic", "hexagonal"}, b.lattice);
+  b.lattice = r.choice("lattice", kLatticeNames, b.lattice);
   b.velocity = r.vector("velocity", dimension_).value_or(std::vector<double>(dimension_, 0.0));
   double speed2 = 0.0;
   for (double v : b.velocity) speed2 += v * v;
@@ -317,15 +317,17 @@ void DeckReader::checkAxisymmetric(const TableReader& r, double centerR, double 
 
 void DeckReader::readShape(const TableReader& r, ShapeConfig& s) const {
   s.where = r.where();
-  s.type = r.choice("type", dd::typeNames("body.shape"), std::nullopt);
+  const std::string type = r.choice("type", dd::typeNames("body.shape"), std::nullopt);
+  s.type = kShapeNames.at(type);
   const std::string dims = "; run.dimension is " + std::to_string(dimension_) + ")";
-  if (s.type == "cylinder" && dimension_ != 3)
+  if (s.type == ShapeType::Cylinder && dimension_ != 3)
     r.fail("type", "shape 'cylinder' is 3D only (use 'sphere' or 'box' in 1D and 2D" + dims);
-  if (s.type == "ring" && dimension_ != 2)
+  if (s.type == ShapeType::Ring && dimension_ != 2)
     r.fail("type", "shape 'ring' is 2D only (use 'sphere' or 'box' in 1D and 3D" + dims);
-  dd::allowTypedKeys(r, "body.shape", s.type, "shape");
+  dd::allowTypedKeys(r, "body.shape", type, "shape");
 
-  if (s.type == "box") {
+  switch (s.type) {
+  case ShapeType::Box:
     s.min = point(r, "min");
     s.max = point(r, "max");
     for (std::size_t a = 0; a < dimension_; ++a)
@@ -336,12 +338,14 @@ void DeckReader::readShape(const TableReader& r, ShapeConfig& s) const {
     if (rz_ && s.min[0] < 0.0)
       r.fail("min", r.quoted("min") + " has r = " + dd::formatNumber(s.min[0]) +
                         " < 0: in geometry 'rz' x is the radius (the axis at r = 0)");
-  } else if (s.type == "sphere") {
+    break;
+  case ShapeType::Sphere:
     s.center = point(r, "center");
     s.radius = r.required(r.number("radius"), "radius");
     r.check(s.radius > 0.0, "radius", "> 0", s.radius);
     checkAxisymmetric(r, s.center[0], s.radius);
-  } else if (s.type == "cylinder") {
+    break;
+  case ShapeType::Cylinder:
     s.base = point(r, "base");
     s.axis = point(r, "axis");
     if (norm(s.axis) == 0.0) r.fail("axis", r.quoted("axis") + " must not be the zero vector");
@@ -349,7 +353,8 @@ void DeckReader::readShape(const TableReader& r, ShapeConfig& s) const {
     r.check(s.radius > 0.0, "radius", "> 0", s.radius);
     s.length = r.required(r.number("length"), "length");
     r.check(s.length > 0.0, "length", "> 0", s.length);
-  } else { // ring
+    break;
+  case ShapeType::Ring:
     s.center = point(r, "center");
     s.inner_radius = r.required(r.number("inner_radius"), "inner_radius");
     r.check(s.inner_radius >= 0.0, "inner_radius", ">= 0", s.inner_radius);
@@ -357,6 +362,7 @@ void DeckReader::readShape(const TableReader& r, ShapeConfig& s) const {
     r.check(s.inner_radius < s.outer_radius, "inner_radius",
             "< outer_radius (" + dd::formatNumber(s.outer_radius) + ")", s.inner_radius);
     checkAxisymmetric(r, s.center[0], s.outer_radius);
+    break;
   }
 }
 
@@ -373,9 +379,9 @@ void DeckReader::readEnergySource(const TableReader& r, EnergySourceConfig& e) c
 void DeckReader::readBoundary(const TableReader& r, BoundaryConfig& b,
                               const std::vector<BodyConfig>& bodies) const {
   b.where = r.where();
-  b.type = r.choice("type", dd::typeNames("boundary"), std::nullopt);
-  dd::allowTypedKeys(r, "boundary", b.type, "boundary");
-  if (b.type == "rigid_wall") {
+  b.type = dd::readType(r, "boundary", kBoundaryTypeNames, "boundary");
+  switch (b.type) {
+  case BoundaryType::RigidWall: {
     b.point = point(r, "point");
     b.normal = point(r, "normal");
     const double n = norm(b.normal);
@@ -389,11 +395,14 @@ void DeckReader::readBoundary(const TableReader& r, BoundaryConfig& b,
     if (rz_ && b.normal[0] != 0.0 && b.point[0] <= 0.0)
       r.fail("point", r.quoted("point") + " of a cylindrical wall in geometry 'rz' needs r > 0 "
                                           "(the axis is a mirror already)");
-  } else if (b.type == "pressure") {
+    break;
+  }
+  case BoundaryType::Pressure:
     b.body = r.required(r.string("body"), "body");
     b.bodyIndex = bodyIndex(r, "body", b.body, bodies);
     b.pressure = dd::readPressureTable(r);
-  } else { // periodic
+    break;
+  case BoundaryType::Periodic: {
     const std::int64_t axis = r.required(r.integer("axis"), "axis");
     r.check(axis >= 0 && axis < static_cast<std::int64_t>(dimension_), "axis",
             "0 .. " + std::to_string(dimension_ - 1) + " (0 = x; run.dimension is " +
@@ -406,11 +415,13 @@ void DeckReader::readBoundary(const TableReader& r, BoundaryConfig& b,
     b.min = r.required(r.number("min"), "min");
     b.max = r.required(r.number("max"), "max");
     r.check(b.min < b.max, "max", "> min (" + dd::formatNumber(b.min) + ")", b.max);
+    break;
+  }
   }
 }
 
 void DeckReader::readOutput(const TableReader& r, OutputConfig& o, double endTime,
-                            const std::string& method) const {
+                            SolverMethod method) const {
   r.allowOnly(*dd::schemaKeys("output"));
   o.where = r.where();
   o.directory = r.required(r.string("directory"), "directory");
@@ -424,11 +435,11 @@ void DeckReader::readOutput(const TableReader& r, OutputConfig& o, double endTim
   r.check(o.every_steps >= 0, "every_steps", ">= 0", static_cast<double>(o.every_steps));
   o.fields = r.strings("fields").value_or(std::vector<std::string>{});
   o.grid = r.boolean("grid").value_or(false);
-  if (o.grid && method != "mpm")
+  if (o.grid && method != SolverMethod::Mpm)
     r.fail("grid", r.quoted("grid") +
                        " writes MPM's background grid: it needs solver.method = "
                        "\"mpm\" (this run's is \"" +
-                       method + "\")");
+                       std::string(kSolverMethodNames(method)) + "\")");
   o.history_every_steps = r.integer("history_every_steps").value_or(1);
   r.check(o.history_every_steps >= 1, "history_every_steps", ">= 1",
           static_cast<double>(o.history_every_steps));
@@ -542,7 +553,7 @@ void DeckReader::readProbe(const TableReader& r, ProbeConfig& p) const {
   r.allowOnly(*dd::schemaKeys("probe"));
   p.where = r.where();
   p.position = point(r, "position");
-  p.track = r.choice("track", {"material", "space"}, p.track);
+  p.track = r.choice("track", kProbeTrackNames, p.track);
   // A probe without fields would record nothing: say so rather than run silently.
   p.fields = r.required(r.strings("fields"), "fields");
   if (p.fields.empty()) r.fail("fields", r.quoted("fields") + " must name at least one field");

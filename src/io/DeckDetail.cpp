@@ -1,5 +1,7 @@
 #include "DeckDetail.hpp"
 
+#include "spall/io/DeckKeys.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -14,47 +16,22 @@ struct TypedTable {
   std::vector<std::pair<std::string_view, Names>> types;
 };
 
+// The typed tables' types and their keys, from the key tables (io/DeckKeys.hpp): a section with a
+// type holds that type's keys.
 const std::vector<TypedTable>& typedTables() {
-  static const std::vector<TypedTable> tables{
-      {"material.eos",
-       {{"ideal_gas", {"gamma"}},
-        {"linear", {"bulk_modulus", "min_pressure"}},
-        {"mie_gruneisen", {"c0", "s", "gamma0", "min_pressure"}},
-        {"tillotson",
-         {"a", "b", "A", "B", "alpha", "beta", "e0", "e_iv", "e_cv", "min_pressure"}}}},
-      {"material.strength",
-       {{"none", {}},
-        {"elastic", {"shear_modulus"}},
-        {"von_mises", {"shear_modulus", "yield_stress"}},
-        {"johnson_cook",
-         {"shear_modulus", "A", "B", "n", "C", "m", "reference_strain_rate", "room_temperature",
-          "melt_temperature", "specific_heat", "taylor_quinney", "strain_rate"}},
-        {"zerilli_armstrong",
-         {"shear_modulus", "C0", "C1", "C2", "C3", "C4", "C5", "n", "reference_strain_rate",
-          "room_temperature", "specific_heat", "taylor_quinney"}},
-        {"cap",
-         {"bulk_modulus", "shear_modulus", "peak_i1", "f_slope", "cap_ratio", "crush_p0",
-          "crush_p1", "crush_p3", "hardening", "dilatancy", "fluid_bulk_modulus",
-          "initial_pore_pressure"}}}},
-      {"material.damage",
-       {{"grady_kipp", {"weibull_k", "weibull_m", "crack_speed", "mode"}},
-        {"johnson_cook",
-         {"D1", "D2", "D3", "D4", "D5", "reference_strain_rate", "room_temperature",
-          "melt_temperature"}}}},
-      {"material.porosity",
-       {{"p_alpha",
-         {"alpha0", "elastic_pressure", "solid_pressure", "exponent", "transition_pressure",
-          "alpha_transition", "exponent_transition", "elastic_sound_speed"}}}},
-      {"body.shape",
-       {{"box", {"min", "max"}},
-        {"sphere", {"center", "radius"}},
-        {"cylinder", {"base", "axis", "radius", "length"}},
-        {"ring", {"center", "inner_radius", "outer_radius"}}}},
-      {"boundary",
-       {{"rigid_wall", {"point", "normal"}},
-        {"periodic", {"axis", "min", "max"}},
-        {"pressure", {"body", "pressure"}}}},
-  };
+  static const std::vector<TypedTable> tables = [] {
+    std::vector<TypedTable> t;
+    for (const auto& section : deckKeySections()) {
+      if (section.type.empty()) continue;
+      auto it =
+          std::find_if(t.begin(), t.end(), [&](const auto& x) { return x.path == section.path; });
+      if (it == t.end()) it = t.insert(t.end(), TypedTable{section.path, {}});
+      Names params;
+      for (const auto& key : section.keys) params.push_back(key.name);
+      it->types.emplace_back(section.type, std::move(params));
+    }
+    return t;
+  }();
   return tables;
 }
 
@@ -64,60 +41,18 @@ const TypedTable* findTyped(std::string_view path) {
   return nullptr;
 }
 
-// "type" followed by every type's keys, once each.
-Names unionKeys(std::string_view path) {
-  Names keys{"type"};
-  for (const auto& [type, params] : findTyped(path)->types)
-    for (auto k : params)
-      if (!contains(keys, k)) keys.push_back(k);
-  return keys;
-}
-
+// The allow-list by schema path, from the key tables: a typed table's keys are "type" (its own
+// section) and the union of its types' keys, each once.
 const std::map<std::string, Names, std::less<>>& schema() {
-  static const std::map<std::string, Names, std::less<>> s{
-      {"",
-       {"run", "solver", "decomposition", "material", "body", "energy_source", "boundary", "output",
-        "checkpoint", "probe", "fragments", "penetration", "jet", "damping"}},
-      {"run", {"title", "dimension", "geometry", "end_time", "max_steps", "resolution", "seed"}},
-      {"solver",
-       {"method", "kernel", "nodes_per_h", "cfl", "allow_unstable_cfl", "density",
-        "artificial_viscosity", "h_min", "h_max", "h_min_ratio", "h_max_ratio", "max_aspect_ratio",
-        "shape_interval", "neighbor_skin", "stress_form", "artificial_stress", "velocity_gradient",
-        "contact", "mpm"}},
-      {"solver.mpm", {"cell_size", "shape", "transfer", "flip", "viscosity"}},
-      {"solver.mpm.viscosity", {"linear", "quadratic"}},
-      {"solver.artificial_viscosity", {"alpha", "beta", "balsara", "reconstruction"}},
-      {"solver.artificial_stress", {"epsilon", "exponent"}},
-      {"decomposition",
-       {"curve", "partitioner", "rebalance_every", "imbalance_threshold", "reproducible"}},
-      {"material", {"name", "density", "eos", "strength", "damage", "erosion", "porosity"}},
-      {"material.eos", unionKeys("material.eos")},
-      {"material.strength", unionKeys("material.strength")},
-      {"material.damage", unionKeys("material.damage")},
-      {"material.porosity", unionKeys("material.porosity")},
-      {"body",
-       {"name", "material", "shape", "spacing", "lattice", "velocity", "initial_density",
-        "initial_specific_energy", "initial_pressure", "jitter", "radial_velocity", "insert_time",
-        "lattice_transform", "allow_overlap", "cantilever_velocity", "linear_velocity", "fixed",
-        "sine_velocity"}},
-      {"body.shape", unionKeys("body.shape")},
-      {"body.radial_velocity", {"center", "speed"}},
-      {"body.cantilever_velocity", {"root", "length", "tip_speed"}},
-      {"body.linear_velocity", {"center", "gradient"}},
-      {"body.sine_velocity", {"amplitude", "wavevector", "origin"}},
-      {"energy_source", {"center", "radius", "energy"}},
-      {"boundary", unionKeys("boundary")},
-      {"output",
-       {"directory", "every", "every_steps", "fields", "grid", "history_every_steps",
-        "progress_seconds", "progress_percent", "failure_history", "dt_warning", "max_energy_error",
-        "record_particles"}},
-      {"checkpoint", {"every_steps", "every_wall_seconds", "keep"}},
-      {"fragments", {"link_length", "damage_threshold"}},
-      {"penetration", {"penetrator", "target", "surface", "direction"}},
-      {"damping", {"coefficient", "until"}},
-      {"jet", {"name", "file", "segments", "material", "axis", "entry", "spacing"}},
-      {"probe", {"name", "position", "track", "fields"}},
-  };
+  static const std::map<std::string, Names, std::less<>> s = [] {
+    std::map<std::string, Names, std::less<>> m;
+    for (const auto& section : deckKeySections()) {
+      Names& names = m[std::string(section.path)];
+      for (const auto& key : section.keys)
+        if (!contains(names, key.name)) names.push_back(key.name);
+    }
+    return m;
+  }();
   return s;
 }
 

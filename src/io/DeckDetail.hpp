@@ -2,6 +2,7 @@
 // Private to the deck reader (Deck.cpp, DeckOverrides.cpp, DeckDetail.cpp): positions of nodes,
 // typed access that reports FILE:LINE:COLUMN, the schema of known keys, did-you-mean suggestions.
 #include "spall/core/Error.hpp"
+#include "spall/core/NameTable.hpp"
 #include "spall/io/Deck.hpp"
 #include "spall/solvers/Config.hpp"
 
@@ -12,6 +13,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -101,6 +103,14 @@ public:
   // A string from `allowed`; `fallback` when absent (or a missing-key error without one).
   std::string choice(std::string_view key, const Names& allowed,
                      std::optional<std::string_view> fallback) const;
+  // The same for an enum, by the names of its table.
+  template <class E, std::size_t N>
+  E choice(std::string_view key, const NameTable<E, N>& names,
+           std::optional<std::type_identity_t<E>> fallback) const {
+    return names.at(
+        choice(key, names.names(),
+               fallback ? std::optional<std::string_view>(names(*fallback)) : std::nullopt));
+  }
 
   template <class T> T required(std::optional<T> value, std::string_view key) const {
     if (!value) missing(key);
@@ -143,5 +153,15 @@ std::vector<std::pair<double, double>> readPressureTable(const TableReader& r);
 // A typed table ({type = ..., ...}) takes "type" and the keys of its type (schema above).
 void allowTypedKeys(const TableReader& r, std::string_view path, const std::string& type,
                     const std::string& noun);
+
+// A typed table's `type` (one of the types its key tables list, required), its keys checked
+// against that type's; the value the enum's table gives the name.
+template <class E, std::size_t N>
+E readType(const TableReader& r, std::string_view path, const NameTable<E, N>& names,
+           const std::string& noun) {
+  const std::string type = r.choice("type", typeNames(path), std::nullopt);
+  allowTypedKeys(r, path, type, noun);
+  return names.at(type);
+}
 
 } // namespace spall::io::deck_detail

@@ -188,13 +188,13 @@ void readJet(const TableReader& r, std::size_t dimension, bool rz,
       back[d] = entry[d] - length * axis[d];
     }
     if (dimension == 3) {
-      b.shape.type = "cylinder";
+      b.shape.type = ShapeType::Cylinder;
       b.shape.base = back;
       b.shape.axis = axis;
       b.shape.radius = radius;
       b.shape.length = length;
     } else {
-      b.shape.type = "box";
+      b.shape.type = ShapeType::Box;
       b.shape.min.resize(dimension);
       b.shape.max.resize(dimension);
       for (std::size_t d = 0; d < dimension; ++d) {

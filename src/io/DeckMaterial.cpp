@@ -14,21 +14,24 @@ TableReader child(const TableReader& r, const toml::table& t, Context c) {
 
 void readEos(const TableReader& r, EosConfig& e) {
   e.where = r.where();
-  e.type = r.choice("type", typeNames("material.eos"), std::nullopt);
-  allowTypedKeys(r, "material.eos", e.type, "eos type");
+  e.type = readType(r, "material.eos", kEosNames, "eos type");
   const auto need = [&](std::string_view key) { return r.required(r.number(key), key); };
-  if (e.type == "ideal_gas") {
+  switch (e.type) {
+  case EosType::IdealGas:
     e.gamma = need("gamma");
     r.check(e.gamma > 1.0, "gamma", "> 1", e.gamma);
-  } else if (e.type == "linear") {
+    break;
+  case EosType::Linear:
     e.bulk_modulus = need("bulk_modulus");
     r.check(e.bulk_modulus > 0.0, "bulk_modulus", "> 0", e.bulk_modulus);
-  } else if (e.type == "mie_gruneisen") {
+    break;
+  case EosType::MieGruneisen:
     e.c0 = need("c0");
     r.check(e.c0 > 0.0, "c0", "> 0", e.c0);
     e.s = need("s");
     e.gamma0 = need("gamma0");
-  } else { // tillotson
+    break;
+  case EosType::Tillotson:
     e.a = need("a");
     e.b = need("b");
     e.A = need("A");
@@ -46,8 +49,9 @@ void readEos(const TableReader& r, EosConfig& e) {
     r.check(e.e0 > 0.0, "e0", "> 0", e.e0);
     r.check(e.e_iv > 0.0, "e_iv", "> 0", e.e_iv);
     r.check(e.e_cv > e.e_iv, "e_cv", "> e_iv (" + formatNumber(e.e_iv) + ")", e.e_cv);
+    break;
   }
-  if (e.type != "ideal_gas") {
+  if (e.type != EosType::IdealGas) {
     e.min_pressure = r.number("min_pressure").value_or(e.min_pressure);
     r.check(e.min_pressure <= 0.0, "min_pressure", "<= 0 (a tension, Pa)", e.min_pressure);
   }
@@ -123,18 +127,23 @@ void readZerilliArmstrong(const TableReader& r, StrengthConfig& c) {
 
 void readStrength(const TableReader& r, StrengthConfig& c) {
   c.where = r.where();
-  c.type = r.choice("type", typeNames("material.strength"), std::nullopt);
-  allowTypedKeys(r, "material.strength", c.type, "strength type");
+  c.type = readType(r, "material.strength", kStrengthNames, "strength type");
   const auto need = [&](std::string_view key) { return r.required(r.number(key), key); };
-  if (c.type == "none") return;
+  if (c.type == StrengthType::None) return;
   c.shear_modulus = need("shear_modulus");
   r.check(c.shear_modulus > 0.0, "shear_modulus", "> 0", c.shear_modulus);
-  if (c.type == "cap") {
+  switch (c.type) {
+  case StrengthType::None:
+  case StrengthType::Elastic:
+    break;
+  case StrengthType::Cap:
     readCap(r, c);
-  } else if (c.type == "von_mises") {
+    break;
+  case StrengthType::VonMises:
     c.yield_stress = need("yield_stress");
     r.check(c.yield_stress > 0.0, "yield_stress", "> 0", c.yield_stress);
-  } else if (c.type == "johnson_cook") {
+    break;
+  case StrengthType::JohnsonCook:
     c.A = need("A");
     r.check(c.A > 0.0, "A", "> 0", c.A);
     c.B = need("B");
@@ -151,18 +160,22 @@ void readStrength(const TableReader& r, StrengthConfig& c) {
     c.melt_temperature = need("melt_temperature");
     r.check(c.melt_temperature > c.room_temperature, "melt_temperature", "> room_temperature",
             c.melt_temperature);
-    c.strain_rate = r.choice("strain_rate", {"plastic", "total"}, "plastic");
-  } else if (c.type == "zerilli_armstrong") {
+    c.strain_rate = r.choice("strain_rate", kStrainRateNames, StrainRate::Plastic);
+    break;
+  case StrengthType::ZerilliArmstrong:
     readZerilliArmstrong(r, c);
+    break;
   }
 }
 
 void readDamage(const TableReader& r, DamageConfig& c) {
   c.where = r.where();
-  c.type = r.choice("type", typeNames("material.damage"), std::nullopt);
-  allowTypedKeys(r, "material.damage", c.type, "damage type");
+  c.type = readType(r, "material.damage", kDamageNames, "damage type");
   const auto need = [&](std::string_view key) { return r.required(r.number(key), key); };
-  if (c.type == "grady_kipp") {
+  switch (c.type) {
+  case DamageType::None:
+    break;
+  case DamageType::GradyKipp:
     c.weibull_k = need("weibull_k");
     r.check(c.weibull_k > 0.0, "weibull_k", "> 0 (flaws per m^3)", c.weibull_k);
     c.weibull_m = need("weibull_m");
@@ -170,8 +183,9 @@ void readDamage(const TableReader& r, DamageConfig& c) {
     c.crack_speed = r.number("crack_speed").value_or(c.crack_speed);
     r.check(c.crack_speed > 0.0 && c.crack_speed <= 1.0, "crack_speed",
             "in (0, 1] (a fraction of the longitudinal sound speed)", c.crack_speed);
-    c.mode = r.choice("mode", {"scalar", "tensor"}, "scalar");
-  } else {
+    c.mode = r.choice("mode", kDamageModeNames, DamageMode::Scalar);
+    break;
+  case DamageType::JohnsonCook:
     c.D1 = need("D1");
     c.D2 = need("D2");
     c.D3 = need("D3");
@@ -184,14 +198,14 @@ void readDamage(const TableReader& r, DamageConfig& c) {
     c.melt_temperature = need("melt_temperature");
     r.check(c.melt_temperature > c.room_temperature, "melt_temperature", "> room_temperature",
             c.melt_temperature);
+    break;
   }
 }
 
 // porosity = {type = "p_alpha", ...}: the crush curve of materials/Porosity.hpp.
 void readPorosity(const TableReader& r, PorosityConfig& c) {
   c.where = r.where();
-  c.type = r.choice("type", typeNames("material.porosity"), std::nullopt);
-  allowTypedKeys(r, "material.porosity", c.type, "porosity type");
+  c.type = readType(r, "material.porosity", kPorosityNames, "porosity type");
   const auto need = [&](std::string_view key) { return r.required(r.number(key), key); };
   c.alpha0 = need("alpha0");
   r.check(c.alpha0 >= 1.0, "alpha0", ">= 1 (the distension: solid over bulk density)", c.alpha0);
@@ -247,7 +261,7 @@ void readMaterial(const TableReader& r, MaterialConfig& m) {
     readStrength(s, m.strength);
   }
   const toml::table* eos = r.subtable("eos");
-  if (m.strength.type == "cap") { // the cap model's elasticity is its equation of state
+  if (m.strength.type == StrengthType::Cap) { // the cap model's elasticity is its equation of state
     if (r.has("eos"))
       r.fail("eos", "a 'cap' material computes its whole stress, pressure included, from its own "
                     "bulk_modulus and plasticity: remove 'eos' from " +
@@ -265,21 +279,21 @@ void readMaterial(const TableReader& r, MaterialConfig& m) {
   }
   if (const toml::table* t = r.subtable("damage")) {
     readDamage(child(r, *t, r.context().child("damage")), m.damage);
-    if (m.strength.type == "none")
+    if (m.strength.type == StrengthType::None)
       r.fail("damage", "damage in " + r.context().human +
                            " degrades a material's strength, and this material has none (add "
                            "strength = {type = ...})");
-    if (m.damage.type == "johnson_cook" && !m.strength.hasPlasticStrain())
+    if (m.damage.type == DamageType::JohnsonCook && !m.strength.hasPlasticStrain())
       r.fail("damage", "Johnson-Cook damage accumulates plastic strain; strength type '" +
-                           m.strength.type +
+                           std::string(kStrengthNames(m.strength.type)) +
                            "' has none (use von_mises, johnson_cook or zerilli_armstrong)");
   } else if (r.has("damage")) {
     r.fail("damage", "damage must be a table, e.g. {type = \"grady_kipp\", ...}");
   }
   if (const toml::table* t = r.subtable("porosity"))
     readPorosity(child(r, *t, r.context().child("porosity")), m.porosity);
-  m.erosion = r.choice("erosion", {"none", "no_tension", "no_shear", "zero_stress"}, "none");
-  if (r.has("erosion") && m.damage.type == "none")
+  m.erosion = r.choice("erosion", materials::kErosionNames, materials::Erosion::None);
+  if (m.erosion != materials::Erosion::None && m.damage.type == DamageType::None)
     r.fail("erosion", "erosion says what a fully damaged particle carries, and " +
                           r.context().human + " has no damage");
 }

@@ -6,20 +6,20 @@ namespace spall::io::deck_detail {
 void readSolver(const TableReader& r, SolverConfig& s) {
   r.allowOnly(*schemaKeys("solver"));
   s.where = r.where();
-  s.method = r.choice("method", {"sph", "asph", "mpm"}, "sph");
+  s.method = r.choice("method", kSolverMethodNames, SolverMethod::Sph);
   s.mpm.where = r.where();
-  if (s.method == "mpm")
+  if (s.method == SolverMethod::Mpm)
     for (const char* key :
          {"kernel", "density", "stress_form", "artificial_viscosity", "artificial_stress",
           "velocity_gradient", "h_min", "h_max", "h_min_ratio", "h_max_ratio", "max_aspect_ratio",
           "shape_interval", "neighbor_skin"})
       if (r.has(key)) s.sphOnlyKeys.push_back(key);
   if (const auto* t = r.subtable("mpm")) {
-    if (s.method != "mpm")
+    if (s.method != SolverMethod::Mpm)
       r.fail("mpm", r.quoted("mpm") +
                         " configures the material point method; this deck's "
                         "method is '" +
-                        s.method + "' (set method = \"mpm\")");
+                        std::string(kSolverMethodNames(s.method)) + "' (set method = \"mpm\")");
     const TableReader mp = TableReader(*t, r.context().child("mpm"), r.deckPath());
     mp.allowOnly(*schemaKeys("solver.mpm"));
     s.mpm.where = mp.where();
@@ -27,13 +27,8 @@ void readSolver(const TableReader& r, SolverConfig& s) {
       mp.check(*v >= 0.0, "cell_size", ">= 0 (0: twice the finest body spacing)", *v);
       s.mpm.cell_size = *v;
     }
-    const std::string shape = mp.choice("shape", {"linear", "gimp", "cpgimp", "cpdi"}, "cpgimp");
-    s.mpm.shape = shape == "linear"   ? MpmShape::Linear
-                  : shape == "cpdi"   ? MpmShape::Cpdi
-                  : shape == "cpgimp" ? MpmShape::CpGimp
-                                      : MpmShape::Gimp;
-    s.mpm.transfer = mp.choice("transfer", {"flip", "apic"}, "flip") == "apic" ? MpmTransfer::Apic
-                                                                               : MpmTransfer::Flip;
+    s.mpm.shape = mp.choice("shape", kMpmShapeNames, MpmShape::CpGimp);
+    s.mpm.transfer = mp.choice("transfer", kMpmTransferNames, MpmTransfer::Flip);
     if (const auto f = mp.number("flip")) {
       mp.check(*f >= 0.0 && *f <= 1.0, "flip", "in [0, 1] (1: FLIP, 0: PIC)", *f);
       if (s.mpm.transfer == MpmTransfer::Apic && *f != 1.0)
@@ -52,22 +47,11 @@ void readSolver(const TableReader& r, SolverConfig& s) {
     }
   }
 
-  const std::string kernel =
-      r.choice("kernel", {"cubic_spline", "wendland_c2", "wendland_c4"}, "cubic_spline");
-  s.kernel = kernel == "wendland_c2"   ? KernelType::WendlandC2
-             : kernel == "wendland_c4" ? KernelType::WendlandC4
-                                       : KernelType::CubicSpline;
-  const std::string density =
-      r.choice("density", {"continuity", "summation", "normalized_summation"}, "continuity");
-  s.density = density == "summation"              ? DensityMethod::Summation
-              : density == "normalized_summation" ? DensityMethod::NormalizedSummation
-                                                  : DensityMethod::Continuity;
+  s.kernel = r.choice("kernel", kKernelNames, KernelType::CubicSpline);
+  s.density = r.choice("density", kDensityNames, DensityMethod::Continuity);
   // The product form by default: the stability matrix (tools/stress) runs every impact of
   // unlike materials with it, and none of them with rho_squared (decks/README.md).
-  s.stress_form =
-      r.choice("stress_form", {"rho_squared", "rho_product"}, "rho_product") == "rho_squared"
-          ? StressForm::RhoSquared
-          : StressForm::RhoProduct;
+  s.stress_form = r.choice("stress_form", kStressFormNames, StressForm::RhoProduct);
   if (const auto v = r.number("nodes_per_h")) {
     // Owen (2010) runs 1-4; beyond 10 the neighbor lists alone outgrow any machine.
     r.check(*v >= 0.5 && *v <= 10.0, "nodes_per_h", "in [0.5, 10]", *v);
@@ -110,14 +94,10 @@ void readSolver(const TableReader& r, SolverConfig& s) {
       c.exponent = static_cast<int>(*n);
     }
   }
-  s.velocity_gradient = r.choice("velocity_gradient", {"sph", "corrected"}, "sph") == "corrected"
-                            ? VelocityGradient::Corrected
-                            : VelocityGradient::Sph;
+  s.velocity_gradient =
+      r.choice("velocity_gradient", kVelocityGradientNames, VelocityGradient::Sph);
   // "auto" by default: bodies that collide part again (tools/stress, decks/README.md).
-  const std::string contact = r.choice("contact", {"auto", "welded", "frictionless"}, "auto");
-  s.contact = contact == "welded"         ? Contact::Welded
-              : contact == "frictionless" ? Contact::Frictionless
-                                          : Contact::Auto;
+  s.contact = r.choice("contact", kContactNames, Contact::Auto);
   s.h_min = r.number("h_min").value_or(s.h_min);
   r.check(s.h_min >= 0.0, "h_min", ">= 0", s.h_min);
   s.h_max = r.number("h_max", true).value_or(s.h_max);
@@ -142,15 +122,14 @@ void readSolver(const TableReader& r, SolverConfig& s) {
 // What the material point method does not take yet: an error where the deck asks for it (the
 // method's line where the deck has no place of its own for it).
 void checkMpmScope(const Deck& deck) {
-  if (deck.solver.method != "mpm") return;
+  if (deck.solver.method != SolverMethod::Mpm) return;
   const auto fail = [](const SourceLocation& where, const std::string& what) {
     throw DeckError(where, what + " is not available with solver.method = \"mpm\" yet");
   };
-  if (deck.decomposition.partitioner == "metis")
+  if (deck.decomposition.partitioner == Partitioner::Metis)
     fail(deck.solver.where, "decomposition.partitioner = \"metis\" (a graph of neighbor pairs)");
   for (const auto& b : deck.boundaries)
-    if (b.type != "rigid_wall" && b.type != "pressure")
-      fail(b.where, "a boundary of type '" + b.type + "'");
+    if (b.type == BoundaryType::Periodic) fail(b.where, "a boundary of type 'periodic'");
 }
 
 } // namespace spall::io::deck_detail

@@ -91,7 +91,7 @@ template <int Dim> void MpmMethod<Dim>::placeOrigin() {
   };
   std::array<bool, Dim> aligned{};
   for (const auto& b : setup_.boundaries) {
-    if (b.type != "rigid_wall") continue; // a pressure boundary has no plane
+    if (b.type != BoundaryType::RigidWall) continue; // a pressure boundary has no plane
     const int a = axisOf(b);
     if (a < 0 || a >= Dim || aligned[static_cast<std::size_t>(a)]) continue;
     origin_[a] = b.point[static_cast<std::size_t>(a)];
@@ -99,7 +99,7 @@ template <int Dim> void MpmMethod<Dim>::placeOrigin() {
   }
   const double hc = setup_.solver.mpm.cell_size;
   for (const auto& b : setup_.boundaries) {
-    if (b.type != "rigid_wall") continue;
+    if (b.type != BoundaryType::RigidWall) continue;
     const int a = axisOf(b);
     if (a < 0 || a >= Dim)
       throw DeckError(b.where, "a rigid wall with MPM is normal to a grid axis (its constraint "
@@ -365,7 +365,7 @@ template <int Dim> void MpmMethod<Dim>::haloForStep() {
 template <int Dim> void MpmMethod<Dim>::makeGrid() {
   std::vector<solvers::GridWall<Dim>> walls;
   for (const auto& b : setup_.boundaries) {
-    if (b.type != "rigid_wall") continue;
+    if (b.type != BoundaryType::RigidWall) continue;
     solvers::GridWall<Dim> w;
     for (int a = 0; a < Dim; ++a) {
       w.point[a] = b.point[static_cast<std::size_t>(a)];

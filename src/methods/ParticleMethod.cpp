@@ -14,7 +14,7 @@ namespace spall::methods {
 ParticleMethodSetup sharedSetup(const MethodSetup& s) {
   ParticleMethodSetup c;
   for (const auto& b : s.boundaries)
-    if (b.type == "periodic") c.periodic.push_back({b.axis, b.min, b.max});
+    if (b.type == BoundaryType::Periodic) c.periodic.push_back({b.axis, b.min, b.max});
   c.imbalanceThreshold = s.imbalanceThreshold;
   c.nodesPerH = s.solver.nodes_per_h;
   c.note = s.note;

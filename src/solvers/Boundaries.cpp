@@ -13,7 +13,8 @@ Boundaries<Dim>::Boundaries(const std::vector<BoundaryConfig>& config, const Par
                             const ParticleFields<Dim>& f)
     : x_(f.x), v_(f.v) {
   for (const auto& b : config) {
-    if (b.type == "rigid_wall") {
+    switch (b.type) {
+    case BoundaryType::RigidWall: {
       Wall w;
       for (int d = 0; d < Dim; ++d) {
         w.point[d] = b.point[d];
@@ -22,9 +23,14 @@ Boundaries<Dim>::Boundaries(const std::vector<BoundaryConfig>& config, const Par
       w.normal.normalize();
       w.fold = b.fold;
       walls_.push_back(w);
-    } else if (b.type == "periodic") {
+      break;
+    }
+    case BoundaryType::Periodic:
       periodic_.push_back({b.axis, b.min, b.max});
-    } // "pressure" loads a body's surface: methods/modules/ConfiningPressure.hpp
+      break;
+    case BoundaryType::Pressure: // loads a body's surface: methods/modules/ConfiningPressure.hpp
+      break;
+    }
   }
   for (std::size_t c : s.columnsWith(kReflectVector)) vectors_.push_back({c});
   for (std::size_t c : s.columnsWith(kReflectTensor)) {

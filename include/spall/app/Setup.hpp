@@ -29,7 +29,4 @@ methods::MethodSetup methodSetup(const Deck& deck);
 // density continuity", "mpm gimp cell 0.05 m flip 1".
 std::string methodSummary(const Deck& deck);
 
-const char* kernelName(KernelType k);
-const char* densityName(DensityMethod d);
-
 } // namespace spall::app

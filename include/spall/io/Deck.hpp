@@ -3,6 +3,8 @@
 // came from the deck keeps the position it came from, so later checks (a body with zero particles,
 // overlapping bodies) still report FILE:LINE:COLUMN.
 #include "spall/core/Error.hpp"
+#include "spall/core/NameTable.hpp"
+#include "spall/materials/Erosion.hpp"
 #include "spall/solvers/Config.hpp"
 
 #include <array>
@@ -24,16 +26,29 @@ struct RunConfig {
   std::uint64_t seed = 1;
 };
 
+enum class CurveType { Hilbert, Morton };
+inline constexpr NameTable<CurveType, 2> kCurveNames{
+    {{{CurveType::Hilbert, "hilbert"}, {CurveType::Morton, "morton"}}}};
+enum class Partitioner { Sfc, Metis };
+inline constexpr NameTable<Partitioner, 2> kPartitionerNames{
+    {{{Partitioner::Sfc, "sfc"}, {Partitioner::Metis, "metis"}}}};
+
 struct DecompositionConfig {
-  std::string curve = "hilbert";   // "hilbert" | "morton"
-  std::string partitioner = "sfc"; // "sfc" | "metis"
+  CurveType curve = CurveType::Hilbert;
+  Partitioner partitioner = Partitioner::Sfc;
   int rebalance_every = 20;
   double imbalance_threshold = 1.1; // max/mean cost that triggers a rebalance at any step
   bool reproducible = true;         // neighbor sums in a rank-count-independent order
 };
 
+enum class EosType { IdealGas, Linear, MieGruneisen, Tillotson };
+inline constexpr NameTable<EosType, 4> kEosNames{{{{EosType::IdealGas, "ideal_gas"},
+                                                   {EosType::Linear, "linear"},
+                                                   {EosType::MieGruneisen, "mie_gruneisen"},
+                                                   {EosType::Tillotson, "tillotson"}}}};
+
 struct EosConfig {
-  std::string type;                       // "ideal_gas" | "linear" | "mie_gruneisen" | "tillotson"
+  EosType type = EosType::IdealGas;       // required in a deck (none for a cap material)
   double gamma = 0.0;                     // ideal_gas
   double bulk_modulus = 0.0;              // linear
   double c0 = 0.0, s = 0.0, gamma0 = 0.0; // mie_gruneisen (Lam et al. 2001, Eqs. 4-6)
@@ -47,9 +62,21 @@ struct EosConfig {
 };
 
 // strength = {type = ...} (docs/reference.md; materials/Strength.hpp for the models).
+enum class StrengthType { None, Elastic, VonMises, JohnsonCook, ZerilliArmstrong, Cap };
+inline constexpr NameTable<StrengthType, 6> kStrengthNames{
+    {{{StrengthType::None, "none"},
+      {StrengthType::Elastic, "elastic"},
+      {StrengthType::VonMises, "von_mises"},
+      {StrengthType::JohnsonCook, "johnson_cook"},
+      {StrengthType::ZerilliArmstrong, "zerilli_armstrong"},
+      {StrengthType::Cap, "cap"}}}};
+// The strain rate in Johnson-Cook's rate term: the plastic one or the total deviatoric one.
+enum class StrainRate { Plastic, Total };
+inline constexpr NameTable<StrainRate, 2> kStrainRateNames{
+    {{{StrainRate::Plastic, "plastic"}, {StrainRate::Total, "total"}}}};
+
 struct StrengthConfig {
-  std::string type = "none"; // "none" | "elastic" | "von_mises" | "johnson_cook" |
-                             // "zerilli_armstrong" | "cap"
+  StrengthType type = StrengthType::None;
   double shear_modulus = 0.0, yield_stress = 0.0;
   // cap (materials/CapPlasticity.hpp; docs/reference.md for the keys)
   double bulk_modulus = 0.0, peak_i1 = 0.0, f_slope = 0.0, cap_ratio = 0.0;
@@ -60,26 +87,38 @@ struct StrengthConfig {
   double A = 0.0, B = 0.0, n = 1.0, C = 0.0, m = 1.0, reference_strain_rate = 1.0;
   double room_temperature = 293.0, melt_temperature = 0.0, specific_heat = 0.0;
   double taylor_quinney = 0.9;
-  std::string strain_rate = "plastic"; // "plastic" | "total": the rate in Johnson-Cook's rate term
+  StrainRate strain_rate = StrainRate::Plastic;
   // zerilli_armstrong (with n, reference_strain_rate, room_temperature, specific_heat,
   // taylor_quinney above)
   double C0 = 0.0, C1 = 0.0, C2 = 0.0, C3 = 0.0, C4 = 0.0, C5 = 0.0;
   // The models that carry a temperature (johnson_cook, zerilli_armstrong) start at
   // room_temperature, the others at 0.
-  bool tracksTemperature() const { return type == "johnson_cook" || type == "zerilli_armstrong"; }
+  bool tracksTemperature() const {
+    return type == StrengthType::JohnsonCook || type == StrengthType::ZerilliArmstrong;
+  }
   double initialTemperature() const { return tracksTemperature() ? room_temperature : 0.0; }
   // The J2 models, which accumulate an equivalent plastic strain (what Johnson-Cook damage reads).
-  bool hasPlasticStrain() const { return type == "von_mises" || tracksTemperature(); }
+  bool hasPlasticStrain() const { return type == StrengthType::VonMises || tracksTemperature(); }
   SourceLocation where;
 };
 
 // damage = {type = ...} (docs/reference.md; materials/Damage.hpp for the models).
+enum class DamageType { None, GradyKipp, JohnsonCook };
+inline constexpr NameTable<DamageType, 3> kDamageNames{
+    {{{DamageType::None, "none"},
+      {DamageType::GradyKipp, "grady_kipp"},
+      {DamageType::JohnsonCook, "johnson_cook"}}}};
+// Grady-Kipp damage as a scalar (Benz & Asphaug 1995) or a tensor (Owen 2010).
+enum class DamageMode { Scalar, Tensor };
+inline constexpr NameTable<DamageMode, 2> kDamageModeNames{
+    {{{DamageMode::Scalar, "scalar"}, {DamageMode::Tensor, "tensor"}}}};
+
 struct DamageConfig {
-  std::string type = "none"; // "none" | "grady_kipp" | "johnson_cook"
+  DamageType type = DamageType::None;
   // grady_kipp: n(eps) = weibull_k eps^weibull_m flaws per m^3; crack speed over the longitudinal
   // sound speed; mode "scalar" (Benz & Asphaug) or "tensor" (Owen 2010)
   double weibull_k = 0.0, weibull_m = 0.0, crack_speed = 0.4;
-  std::string mode = "scalar";
+  DamageMode mode = DamageMode::Scalar;
   // johnson_cook (Austin 2013, Eq. 6.5)
   double D1 = 0.0, D2 = 0.0, D3 = 0.0, D4 = 0.0, D5 = 0.0, reference_strain_rate = 1.0;
   double room_temperature = 293.0, melt_temperature = 0.0;
@@ -87,8 +126,12 @@ struct DamageConfig {
 };
 
 // porosity = {type = "p_alpha", ...} (docs/reference.md; materials/Porosity.hpp for the model).
+enum class PorosityType { None, PAlpha };
+inline constexpr NameTable<PorosityType, 2> kPorosityNames{
+    {{{PorosityType::None, "none"}, {PorosityType::PAlpha, "p_alpha"}}}};
+
 struct PorosityConfig {
-  std::string type = "none"; // "none" | "p_alpha"
+  PorosityType type = PorosityType::None;
   double alpha0 = 1.0, elastic_pressure = 0.0, solid_pressure = 0.0, exponent = 2.0;
   // two-stage curve (all three or none): alpha0 -> alpha_transition -> 1
   std::optional<double> transition_pressure, alpha_transition, exponent_transition;
@@ -104,12 +147,18 @@ struct MaterialConfig {
   StrengthConfig strength;
   DamageConfig damage;
   PorosityConfig porosity;
-  std::string erosion = "none"; // "none" | "no_tension" | "no_shear" | "zero_stress"
+  materials::Erosion erosion = materials::Erosion::None;
   SourceLocation where;
 };
 
+enum class ShapeType { Box, Sphere, Cylinder, Ring };
+inline constexpr NameTable<ShapeType, 4> kShapeNames{{{{ShapeType::Box, "box"},
+                                                       {ShapeType::Sphere, "sphere"},
+                                                       {ShapeType::Cylinder, "cylinder"},
+                                                       {ShapeType::Ring, "ring"}}}};
+
 struct ShapeConfig {
-  std::string type;                              // "box" | "sphere" | "cylinder" | "ring"
+  ShapeType type = ShapeType::Box;
   std::vector<double> min, max;                  // box
   std::vector<double> center;                    // sphere, ring
   double radius = 0.0;                           // sphere, cylinder
@@ -143,14 +192,19 @@ struct CantileverVelocityConfig {
   double tip_speed = 0.0;
 };
 
+// The lattice a body's particles are placed on (hexagonal: close-packed rows, 2D and 3D).
+enum class Lattice { Cubic, Hexagonal };
+inline constexpr NameTable<Lattice, 2> kLatticeNames{
+    {{{Lattice::Cubic, "cubic"}, {Lattice::Hexagonal, "hexagonal"}}}};
+
 struct BodyConfig {
   std::string name;
   std::string material;    // name as in the deck
   int material_index = -1; // resolved index into Deck::materials
   ShapeConfig shape;
-  double spacing = 0.0;          // before run.resolution
-  std::string lattice = "cubic"; // "cubic" | "hexagonal"
-  std::vector<double> velocity;  // dimension entries
+  double spacing = 0.0; // before run.resolution
+  Lattice lattice = Lattice::Cubic;
+  std::vector<double> velocity; // dimension entries
   std::optional<double> initial_density;
   std::optional<double> initial_specific_energy;
   std::optional<double> initial_pressure;
@@ -231,10 +285,15 @@ struct PenetrationConfig {
   SourceLocation where;
 };
 
+// A probe follows the particle nearest its position at t = 0, or stays at a point in space.
+enum class ProbeTrack { Material, Space };
+inline constexpr NameTable<ProbeTrack, 2> kProbeTrackNames{
+    {{{ProbeTrack::Material, "material"}, {ProbeTrack::Space, "space"}}}};
+
 struct ProbeConfig {
   std::string name;
   std::vector<double> position;
-  std::string track = "material"; // "material" | "space"
+  ProbeTrack track = ProbeTrack::Material;
   std::vector<std::string> fields;
   SourceLocation where;
 };

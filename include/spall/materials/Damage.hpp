@@ -27,6 +27,7 @@
 #include "spall/core/Random.hpp"
 #include "spall/core/SymmetricEigen.hpp"
 #include "spall/core/Types.hpp"
+#include "spall/materials/Erosion.hpp"
 #include "spall/materials/Strength.hpp"
 
 #include <algorithm>
@@ -37,8 +38,6 @@
 #include <variant>
 
 namespace spall::materials {
-
-enum class Erosion { None, NoTension, NoShear, ZeroStress };
 
 // damage = {type = "grady_kipp", weibull_k, weibull_m, crack_speed, mode = "scalar" | "tensor"}
 struct GradyKipp {

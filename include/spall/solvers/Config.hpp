@@ -2,6 +2,7 @@
 // What the solvers and boundaries are configured with. The deck reader (io/Deck) parses into
 // these; the solvers know nothing of TOML.
 #include "spall/core/Error.hpp"
+#include "spall/core/NameTable.hpp"
 
 #include <cstdint>
 #include <limits>
@@ -12,17 +13,26 @@
 namespace spall {
 
 enum class KernelType { CubicSpline, WendlandC2, WendlandC4 };
+inline constexpr NameTable<KernelType, 3> kKernelNames{{{{KernelType::CubicSpline, "cubic_spline"},
+                                                         {KernelType::WendlandC2, "wendland_c2"},
+                                                         {KernelType::WendlandC4, "wendland_c4"}}}};
 enum class DensityMethod {
   Continuity,         // d rho/dt = sum_j m_j (v_i - v_j) . grad W_ij
   Summation,          // rho_i = sum_j m_j W_ij   (Lam et al. 2001, Eq. 18)
   NormalizedSummation // rho_i = sum m_j W_ij / sum (m_j/rho_j) W_ij  (Lam et al. 2001, Eq. 25)
 };
+inline constexpr NameTable<DensityMethod, 3> kDensityNames{
+    {{{DensityMethod::Continuity, "continuity"},
+      {DensityMethod::Summation, "summation"},
+      {DensityMethod::NormalizedSummation, "normalized_summation"}}}};
 
 // The pair term of the momentum and energy equations. Both conserve momentum and energy exactly.
 enum class StressForm {
   RhoSquared, // sigma_i/rho_i^2 + sigma_j/rho_j^2  (Lam et al. 2001, Eqs. 20-21)
   RhoProduct  // (sigma_i + sigma_j)/(rho_i rho_j): stable at interfaces of very unequal density
 };
+inline constexpr NameTable<StressForm, 2> kStressFormNames{
+    {{{StressForm::RhoSquared, "rho_squared"}, {StressForm::RhoProduct, "rho_product"}}}};
 
 // reconstruct: the pair's approach speed is taken from the velocities reconstructed linearly to
 // the pair's midpoint with each particle's velocity gradient L, limited by van Leer's limiter
@@ -57,6 +67,8 @@ enum class VelocityGradient {
             // exact for linear fields, at free surfaces too (Randles & Libersky 1996; Bonet & Lok
             // 1999)
 };
+inline constexpr NameTable<VelocityGradient, 2> kVelocityGradientNames{
+    {{{VelocityGradient::Sph, "sph"}, {VelocityGradient::Corrected, "corrected"}}}};
 
 // run.geometry. RZ: axisymmetric in the r-z half-plane (dimension 2, x = r >= 0, y = z); a
 // particle is a ring, its mass m the ring's (2 pi r times its area times rho). The planar loops
@@ -71,6 +83,9 @@ enum class Contact {
   Auto          // welded where bodies touch at t = 0 (a bonded assembly), frictionless between
                 // bodies that meet later (impacts)
 };
+inline constexpr NameTable<Contact, 3> kContactNames{{{{Contact::Auto, "auto"},
+                                                       {Contact::Welded, "welded"},
+                                                       {Contact::Frictionless, "frictionless"}}}};
 
 // The material point method's grid and transfers ([solver.mpm]).
 enum class MpmShape {
@@ -83,11 +98,22 @@ enum class MpmShape {
   Cpdi    // CPDI1: the tent averaged over the particle's deformed domain, a parallelogram
           // (parallelepiped) that follows F (Sadeghirad, Brannon & Burghardt 2011)
 };
+inline constexpr NameTable<MpmShape, 4> kMpmShapeNames{{{{MpmShape::Linear, "linear"},
+                                                         {MpmShape::Gimp, "gimp"},
+                                                         {MpmShape::CpGimp, "cpgimp"},
+                                                         {MpmShape::Cpdi, "cpdi"}}}};
 // How the grid's velocities return to the points (MpmGrid.hpp).
 enum class MpmTransfer {
   Flip, // the grid's velocity change (FLIP), blended with its velocity (PIC) by `flip`
   Apic  // the grid's velocity and its gradient, an affine field per point (Jiang et al. 2015)
 };
+inline constexpr NameTable<MpmTransfer, 2> kMpmTransferNames{
+    {{{MpmTransfer::Flip, "flip"}, {MpmTransfer::Apic, "apic"}}}};
+// solver.method: smoothed particles, adaptive (ellipsoidal) ones, or the material point method.
+enum class SolverMethod { Sph, Asph, Mpm };
+inline constexpr NameTable<SolverMethod, 3> kSolverMethodNames{
+    {{{SolverMethod::Sph, "sph"}, {SolverMethod::Asph, "asph"}, {SolverMethod::Mpm, "mpm"}}}};
+
 struct MpmConfig {
   double cell_size = 0.0; // m; 0: twice the finest body spacing (io/Deck resolves it)
   MpmShape shape = MpmShape::CpGimp;
@@ -101,7 +127,7 @@ struct MpmConfig {
 };
 
 struct SolverConfig {
-  std::string method = "sph"; // "sph" | "asph" | "mpm"
+  SolverMethod method = SolverMethod::Sph;
   KernelType kernel = KernelType::CubicSpline;
   double nodes_per_h = 1.5; // n_h target (Owen 2010, Sec. II-A)
   double cfl = 0.25;
@@ -136,8 +162,14 @@ struct SolverConfig {
   SourceLocation where;
 };
 
+enum class BoundaryType { RigidWall, Periodic, Pressure };
+inline constexpr NameTable<BoundaryType, 3> kBoundaryTypeNames{
+    {{{BoundaryType::RigidWall, "rigid_wall"},
+      {BoundaryType::Periodic, "periodic"},
+      {BoundaryType::Pressure, "pressure"}}}};
+
 struct BoundaryConfig {
-  std::string type;                  // "rigid_wall" | "periodic" | "pressure"
+  BoundaryType type = BoundaryType::RigidWall;
   std::vector<double> point, normal; // rigid_wall (normal points into the material)
   // rigid_wall: a particle found behind the plane is folded back (position and velocity
   // mirrored). The rz axis is such a mirror: a ring cannot have r < 0.

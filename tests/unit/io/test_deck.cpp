@@ -242,30 +242,30 @@ TEST_F(DeckTest, Valid1DDeckHasTypedValues) {
   EXPECT_DOUBLE_EQ(d.run.end_time, 12.8e-6);
   EXPECT_EQ(d.run.seed, 1u);
   EXPECT_DOUBLE_EQ(d.run.resolution, 1.0);
-  EXPECT_EQ(d.solver.method, "sph");
+  EXPECT_EQ(d.solver.method, spall::SolverMethod::Sph);
   EXPECT_EQ(d.solver.kernel, spall::KernelType::WendlandC2);
   EXPECT_EQ(d.solver.density, spall::DensityMethod::Continuity);
   EXPECT_DOUBLE_EQ(d.solver.cfl, 0.3);
   EXPECT_DOUBLE_EQ(d.solver.artificial_viscosity.alpha, 1.5);
   EXPECT_DOUBLE_EQ(d.solver.artificial_viscosity.beta, 3.0);
   EXPECT_TRUE(d.solver.artificial_viscosity.balsara);
-  EXPECT_EQ(d.decomposition.curve, "hilbert");
+  EXPECT_EQ(d.decomposition.curve, spall::CurveType::Hilbert);
   ASSERT_EQ(d.materials.size(), 1u);
   EXPECT_EQ(d.materials[0].name, "copper");
   EXPECT_DOUBLE_EQ(d.materials[0].density, 8930.0);
-  EXPECT_EQ(d.materials[0].eos.type, "mie_gruneisen");
+  EXPECT_EQ(d.materials[0].eos.type, spall::EosType::MieGruneisen);
   EXPECT_DOUBLE_EQ(d.materials[0].eos.c0, 3940.0);
   EXPECT_DOUBLE_EQ(d.materials[0].eos.s, 1.49);
   EXPECT_DOUBLE_EQ(d.materials[0].eos.gamma0, 2.02);
-  EXPECT_EQ(d.materials[0].strength.type, "none");
+  EXPECT_EQ(d.materials[0].strength.type, spall::StrengthType::None);
   ASSERT_EQ(d.bodies.size(), 2u);
   EXPECT_EQ(d.bodies[0].name, "striker");
   EXPECT_EQ(d.bodies[0].material_index, 0);
-  EXPECT_EQ(d.bodies[0].shape.type, "box");
+  EXPECT_EQ(d.bodies[0].shape.type, spall::ShapeType::Box);
   EXPECT_EQ(d.bodies[0].shape.max, std::vector<double>{0.010});
   EXPECT_EQ(d.bodies[0].velocity, std::vector<double>{20.0});
   EXPECT_EQ(d.bodies[1].velocity, std::vector<double>{0.0}); // default: at rest
-  EXPECT_EQ(d.bodies[0].lattice, "cubic");
+  EXPECT_EQ(d.bodies[0].lattice, spall::Lattice::Cubic);
   EXPECT_FALSE(d.bodies[0].initial_density.has_value());
   EXPECT_EQ(d.bodies[0].where.line, 16);
   EXPECT_EQ(d.bodies[0].where.column, 1);
@@ -277,7 +277,7 @@ TEST_F(DeckTest, Valid1DDeckHasTypedValues) {
   EXPECT_EQ(d.output.history_every_steps, 1);
   EXPECT_FALSE(d.checkpoint.has_value());
   ASSERT_EQ(d.probes.size(), 1u);
-  EXPECT_EQ(d.probes[0].track, "material");
+  EXPECT_EQ(d.probes[0].track, spall::ProbeTrack::Material);
   EXPECT_EQ(d.probes[0].fields, std::vector<std::string>{"pressure"});
   EXPECT_TRUE(d.energy_sources.empty());
 }
@@ -292,8 +292,8 @@ TEST_F(DeckTest, Valid2DDeckHasTypedValues) {
   EXPECT_EQ(d.solver.density, spall::DensityMethod::NormalizedSummation);
   EXPECT_DOUBLE_EQ(d.solver.nodes_per_h, 1.2);
   EXPECT_TRUE(std::isinf(d.solver.h_max));
-  EXPECT_EQ(d.decomposition.curve, "morton");
-  EXPECT_EQ(d.decomposition.partitioner, "metis");
+  EXPECT_EQ(d.decomposition.curve, spall::CurveType::Morton);
+  EXPECT_EQ(d.decomposition.partitioner, spall::Partitioner::Metis);
   EXPECT_EQ(d.decomposition.rebalance_every, 5);
   ASSERT_EQ(d.materials.size(), 2u);
   EXPECT_DOUBLE_EQ(d.materials[0].eos.gamma, 1.4);
@@ -304,7 +304,7 @@ TEST_F(DeckTest, Valid2DDeckHasTypedValues) {
   EXPECT_EQ(ball.material_index, 1);
   EXPECT_EQ(ball.shape.center, (std::vector<double>{0.0, 0.0}));
   EXPECT_DOUBLE_EQ(ball.shape.radius, 0.1);
-  EXPECT_EQ(ball.lattice, "hexagonal");
+  EXPECT_EQ(ball.lattice, spall::Lattice::Hexagonal);
   EXPECT_EQ(ball.velocity, (std::vector<double>{1.0, -2.0}));
   EXPECT_DOUBLE_EQ(*ball.initial_density, 2800.0);
   EXPECT_DOUBLE_EQ(*ball.initial_pressure, 1.0e5);
@@ -314,7 +314,7 @@ TEST_F(DeckTest, Valid2DDeckHasTypedValues) {
   EXPECT_DOUBLE_EQ((*ball.lattice_transform)[0][1], 0.5);
   const auto& shell = d.bodies.at(1);
   EXPECT_EQ(shell.material_index, 0);
-  EXPECT_EQ(shell.shape.type, "ring");
+  EXPECT_EQ(shell.shape.type, spall::ShapeType::Ring);
   EXPECT_DOUBLE_EQ(shell.shape.inner_radius, 0.2);
   EXPECT_DOUBLE_EQ(shell.shape.outer_radius, 0.3);
   EXPECT_DOUBLE_EQ(*shell.initial_specific_energy, 2.5);
@@ -335,7 +335,7 @@ TEST_F(DeckTest, Valid2DDeckHasTypedValues) {
   ASSERT_TRUE(d.checkpoint.has_value());
   EXPECT_EQ(d.checkpoint->keep, 3);
   EXPECT_DOUBLE_EQ(d.checkpoint->every_wall_seconds, 60.0);
-  EXPECT_EQ(d.probes.at(0).track, "space");
+  EXPECT_EQ(d.probes.at(0).track, spall::ProbeTrack::Space);
 }
 
 TEST_F(DeckTest, Valid3DCylinder) {
@@ -475,11 +475,12 @@ TEST_F(DeckTest, JohnsonCookStrainRateIsPlasticOrTotal) {
                          "383.0, taylor_quinney = 0.9";
   const std::string bad = withLine(kDeck1D, 15, jc + ", strain_rate = \"elastic\" }");
   expectError(bad, 15, columnOf(bad, 15, "\"elastic\""), "plastic");
-  EXPECT_EQ(load(withLine(kDeck1D, 15, jc + " }")).materials[0].strength.strain_rate, "plastic");
+  EXPECT_EQ(load(withLine(kDeck1D, 15, jc + " }")).materials[0].strength.strain_rate,
+            spall::StrainRate::Plastic);
   EXPECT_EQ(load(withLine(kDeck1D, 15, jc + ", strain_rate = \"total\" }"))
                 .materials[0]
                 .strength.strain_rate,
-            "total");
+            spall::StrainRate::Total);
 }
 
 // Zerilli-Armstrong: the constants default to 0 (an fcc metal gives C0, C2, C3, C4), none
@@ -523,10 +524,10 @@ TEST_F(DeckTest, ErosionNeedsDamageAndAKnownOption) {
   expectError(withLine(kDeck1D, 15, kElastic + kFlaws + "\nerosion = \"remove_mass\""), 17, 11,
               "zero_stress");
   const Deck d = load(withLine(kDeck1D, 15, kElastic + kFlaws + "\nerosion = \"zero_stress\""));
-  EXPECT_EQ(d.materials[0].damage.type, "grady_kipp");
+  EXPECT_EQ(d.materials[0].damage.type, spall::DamageType::GradyKipp);
   EXPECT_EQ(d.materials[0].damage.weibull_k, 1e35);
   EXPECT_EQ(d.materials[0].damage.crack_speed, 0.4);
-  EXPECT_EQ(d.materials[0].erosion, "zero_stress");
+  EXPECT_EQ(d.materials[0].erosion, spall::materials::Erosion::ZeroStress);
 }
 
 TEST_F(DeckTest, FragmentsLinkWithinTheKernelSupport) {
@@ -602,7 +603,7 @@ TEST_F(DeckTest, MpmTakesItsTableAndRefusesWhatItCannotDoYet) {
   // Lines 7-9 of kDeck1D are the solver's kernel, cfl and viscosity (ignored by MPM).
   const Deck d =
       load(withLine(kDeck1D, 7, "method = \"mpm\"\nmpm = { shape = \"linear\", flip = 0.5 }"));
-  EXPECT_EQ(d.solver.method, "mpm");
+  EXPECT_EQ(d.solver.method, spall::SolverMethod::Mpm);
   EXPECT_EQ(d.solver.mpm.shape, spall::MpmShape::Linear);
   EXPECT_EQ(d.solver.mpm.flip, 0.5);
   EXPECT_EQ(load(withLine(kDeck1D, 7, "method = \"mpm\"")).solver.mpm.shape,
@@ -680,7 +681,7 @@ TEST_F(DeckTest, PorosityIsCheckedAtItsKeys) {
   const std::string ok = "porosity = { type = \"p_alpha\", alpha0 = 1.5, elastic_pressure = 1e6, "
                          "solid_pressure = 1e9";
   const Deck deck = load(withLine(kDeck1D, 15, ok + " }"));
-  EXPECT_EQ(deck.materials[0].porosity.type, "p_alpha");
+  EXPECT_EQ(deck.materials[0].porosity.type, spall::PorosityType::PAlpha);
   EXPECT_EQ(deck.materials[0].porosity.exponent, 2.0); // the default
   expectError(withLine(kDeck1D, 15,
                        "porosity = { type = \"p_alpha\", alpha0 = 0.5, elastic_pressure = 1e6, "
@@ -860,7 +861,7 @@ TEST_F(DeckTest, OverrideBareString) {
   EXPECT_EQ(d.output.directory, "out/other run");
   EXPECT_EQ(d.run.title, "a \"quoted\" title");
   expectOverrideError(kDeck1D, "solver.method=fem", "must be one of");
-  EXPECT_EQ(load(kDeck1D, {"solver.method=asph"}).solver.method, "asph");
+  EXPECT_EQ(load(kDeck1D, {"solver.method=asph"}).solver.method, spall::SolverMethod::Asph);
 }
 
 TEST_F(DeckTest, OverrideUnknownKeySuggests) {

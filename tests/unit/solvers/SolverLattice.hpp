@@ -27,7 +27,7 @@ struct SolverLattice {
       : cfg_(cfg), solid_(solid), damage_(damage) {
     f.registerIn(store, {.strength = solid,
                          .corrected = solid && cfg.velocity_gradient == VelocityGradient::Corrected,
-                         .asph = cfg.method == "asph",
+                         .asph = cfg.method == SolverMethod::Asph,
                          .damage = damage});
     store.resizeLocal(static_cast<std::size_t>(n * n));
     for (int a = 0; a < n; ++a)

@@ -11,12 +11,11 @@ namespace {
 
 // The same disordered particles through SPH or ASPH.
 struct Particles : fixtures::SolverLattice {
-  Particles(const std::string& method, bool solid)
-      : SolverLattice(16, config(method, solid), solid) {
+  Particles(SolverMethod method, bool solid) : SolverLattice(16, config(method, solid), solid) {
     disorder(11);
     evaluate();
   }
-  static SolverConfig config(const std::string& method, bool solid) {
+  static SolverConfig config(SolverMethod method, bool solid) {
     SolverConfig cfg;
     cfg.method = method;
     cfg.artificial_stress.enabled = solid;
@@ -25,7 +24,7 @@ struct Particles : fixtures::SolverLattice {
 };
 
 void expectSame(bool solid) {
-  Particles sph("sph", solid), asph("asph", solid);
+  Particles sph(SolverMethod::Sph, solid), asph(SolverMethod::Asph, solid);
   ASSERT_TRUE(asph.f.anisotropic());
   double aScale = 0.0, eScale = 0.0, rScale = 0.0;
   for (std::size_t i = 0; i < sph.store.localCount(); ++i) {

@@ -16,7 +16,7 @@ namespace {
 
 BoundaryConfig wall(std::vector<double> point, std::vector<double> normal) {
   BoundaryConfig b;
-  b.type = "rigid_wall";
+  b.type = BoundaryType::RigidWall;
   b.point = std::move(point);
   b.normal = std::move(normal);
   return b;

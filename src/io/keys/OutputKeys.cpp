@@ -1,0 +1,91 @@
+// [output], [checkpoint], [[probe]], [fragments], [penetration], [damping] (read in io/Deck.cpp).
+#include "spall/io/DeckKeys.hpp"
+
+namespace spall::io::keys {
+
+std::vector<KeySection> output() {
+  return {
+      {"output",
+       "",
+       "Snapshots, history, progress lines and the run's failure checks.",
+       {
+           {"directory", "string", "required", "", "not empty",
+            "Where the snapshots, history.csv and the run's other files go."},
+           {"every", "float", "0.0", "s", ">= 0; at most 1e8 snapshots",
+            "Simulated time between snapshots; 0: not by time."},
+           {"every_steps", "integer", "0", "steps", ">= 0",
+            "Steps between snapshots; 0: not by steps."},
+           {"fields", "strings", "all fields", "", "",
+            "The particle fields of a snapshot; position and id are always written."},
+           {"grid", "boolean", "false", "", "needs method = \"mpm\"",
+            "Writes MPM's background grid nodes into every snapshot (/grid)."},
+           {"history_every_steps", "integer", "1", "steps", ">= 1",
+            "Steps between rows of history.csv and probes.csv."},
+           {"progress_seconds", "float", "30.0", "s", "> 0",
+            "Wall-clock seconds between progress lines in a batch log."},
+           {"progress_percent", "float", "10.0", "", "[0, 100]",
+            "A progress line at every so many percent of end_time; 0: not by percent."},
+           {"failure_history", "integer", "20", "steps", "[0, 100000]",
+            "A failing run replays from a copy at most this old; 0: no copy, no replay."},
+           {"dt_warning", "float", "0.1", "", "[0, 1)",
+            "Warns when dt falls below this fraction of its median over 100 steps; 0: off."},
+           {"max_energy_error", "float", "1.0", "", ">= 0",
+            "Stops as a failure past this energy error over K0 + |U0| + |W|; 0: never."},
+           {"record_particles", "integers", "none", "", "ids >= 0; at most 64",
+            "Particles whose deformation gradient and stress are written every step."},
+       }},
+      {"checkpoint",
+       "",
+       "Checkpoints a run can restart from (spall run --restart).",
+       {
+           {"every_steps", "integer", "0", "steps", ">= 0",
+            "Steps between checkpoints; 0: not by steps."},
+           {"every_wall_seconds", "float", "0.0", "s", ">= 0",
+            "Wall-clock seconds between checkpoints; 0: not by time."},
+           {"keep", "integer", "2", "", ">= 1", "How many of the latest checkpoints are kept."},
+       }},
+      {"probe",
+       "",
+       "Fields recorded at a point or on a particle, a row of probes.csv each history step.",
+       {
+           {"name", "string", "required", "", "unique, non-empty, no '.'",
+            "Names the probe in probes.csv."},
+           {"position", "float[dim]", "required", "m", "", "Where it records."},
+           {"track", "one of: material, space", "\"material\"", "", "",
+            "material: the particle nearest the position at t = 0; space: a kernel average there."},
+           {"fields", "strings", "required", "", "one or more",
+            "The fields it records, by component: pressure, velocity_x, stress_xy, ..."},
+       }},
+      {"fragments",
+       "",
+       "Friends-of-friends fragments at every snapshot: fragments.csv and a fragment field.",
+       {
+           {"link_length", "float", "1.5", "", "(0, 2 nodes_per_h]",
+            "The link distance, in particle spacings (h / nodes_per_h)."},
+           {"damage_threshold", "float", "0.95", "", "(0, 1]",
+            "Particles at or above this damage link to nothing."},
+       }},
+      {"penetration",
+       "",
+       "The depth of penetration over time: penetration.csv.",
+       {
+           {"penetrator", "strings", "required", "", "one or more [[body]] or [[jet]] names",
+            "The penetrating bodies; a jet's name stands for all its segments."},
+           {"target", "string", "required", "", "a [[body]]'s name, not a penetrator",
+            "The body penetrated."},
+           {"surface", "float[dim]", "required", "m", "",
+            "A point on the target's original surface."},
+           {"direction", "float[dim]", "required", "", "not zero; in rz [0, 1] or [0, -1]",
+            "The direction of penetration (any length)."},
+       }},
+      {"damping",
+       "",
+       "a = a - c v on every particle until `until` (Austin 2013, Eq. 5.1): settle, then shoot.",
+       {
+           {"coefficient", "float", "required", "1/s", "> 0", "c, the damping rate."},
+           {"until", "float", "required", "s", "> 0", "The time at which damping stops."},
+       }},
+  };
+}
+
+} // namespace spall::io::keys
