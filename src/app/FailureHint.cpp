@@ -11,8 +11,7 @@ std::string failureHint(const FailureSigns& s) {
     return "hint: with MPM and solver.contact = \"frictionless\", a point of one body amid "
            "another's material (debris) can be squeezed or flung: its field's nodes are held "
            "where they move toward the other body, not where they move away. One velocity "
-           "field (\"welded\" or \"auto\") cannot do this; see decks/README.md, \"The material "
-           "point method\"";
+           "field (\"welded\" or \"auto\") cannot do this; see decks/topics/mpm.md";
   if (!s.mpm && (s.compression > 10.0 || s.hRatio < 0.1))
     return "hint: compressed beyond any shock state (a shock compresses ~4-6x): particles "
            "are interpenetrating or pairing. Where bodies meet, solver.contact = "
@@ -28,19 +27,18 @@ std::string failureHint(const FailureSigns& s) {
     return fmt::format(
         "hint: an ASPH particle in tension (pressure down to {:.3g} Pa over its last steps): "
         "ASPH is not yet stable where a body is torn apart at km/s, and a smaller solver.cfl "
-        "does not help there; solver.method = \"sph\" runs such scenes (decks/README.md, "
-        "\"Safe defaults\")",
+        "does not help there; solver.method = \"sph\" runs such scenes "
+        "(decks/topics/safe-defaults.md)",
         s.pMin);
   if (s.nonFinite)
-    return "hint: try a smaller solver.cfl; see decks/README.md, \"When a run fails\"";
+    return "hint: try a smaller solver.cfl; see decks/topics/failures.md";
   if (s.energy)
     return "hint: a run that creates energy is blowing up, most often where particles pair or "
            "interpenetrate; try a smaller solver.cfl or a finer resolution, and watch the "
            "particle above from the last good state. "
-           "output.max_energy_error = 0 lets the run go on; see decks/README.md, \"When a run "
-           "fails\"";
+           "output.max_energy_error = 0 lets the run go on; see decks/topics/failures.md";
   return fmt::format("hint: a step below {:g} of run.end_time ({:.3e} s) counts as collapsed; see "
-                     "decks/README.md, \"When a run fails\"",
+                     "decks/topics/failures.md",
                      s.collapseFraction, s.collapseFraction * s.endTime);
 }
 

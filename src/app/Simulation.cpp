@@ -77,7 +77,7 @@ Simulation<Dim>::Simulation(const Deck& deck, const parallel::MpiContext& mpi)
   if (const auto& keys = deck_.solver.sphOnlyKeys; !keys.empty())
     deferredWarnings_.push_back(fmt::format(
         "{}:{}: solver.{} act on SPH's pair loop and do nothing with method \"mpm\" (its "
-        "shock viscosity: solver.mpm.viscosity; decks/README.md, \"The material point method\")",
+        "shock viscosity: solver.mpm.viscosity; decks/topics/mpm.md)",
         deck_.solver.where.file, deck_.solver.where.line, fmt::join(keys, ", solver.")));
   // With the plain SPH velocity gradient a solid's strain rate under-reads where the support is
   // cut, and a confined body settles with stresses off the load (decks/README.md).
@@ -90,7 +90,7 @@ Simulation<Dim>::Simulation(const Deck& deck, const parallel::MpiContext& mpi)
       deferredWarnings_.push_back(fmt::format(
           "{}:{}: body '{}' has strength and a pressure boundary, but solver.velocity_gradient "
           "is not \"corrected\": it will settle with its stresses off the load, by up to 40% "
-          "at the surface (decks/README.md, \"Confining pressure\")",
+          "at the surface (decks/topics/confining-pressure.md)",
           b.where.file, b.where.line, b.body));
 }
 
@@ -437,8 +437,7 @@ template <int Dim> void Simulation<Dim>::warnThinBodies(double cell) {
   deferredWarnings_.push_back(fmt::format(
       "{}:{}: solver.contact = \"frictionless\" with MPM acts where the bodies' material fills "
       "90% of a node's support: bodies under 2 cells ({:.3g} m) across can pass through others "
-      "unstopped ({}); a finer run.resolution or contact \"welded\" (decks/README.md, \"The "
-      "material point method\")",
+      "unstopped ({}); a finer run.resolution or contact \"welded\" (decks/topics/mpm.md)",
       deck_.solver.where.file, deck_.solver.where.line, 2.0 * cell, fmt::join(thin, ", ")));
 }
 
