@@ -98,7 +98,7 @@ typename Simulation<Dim>::FailureReplay Simulation<Dim>::replayFailure(const Ste
         mpi_.max(mpi_.root() && fs::exists(dir_ / (stem + ".ftable")) ? 1.0 : 0.0) > 0.0;
     if (f_.L.valid() && f.material >= 0 && !recorded) {
       if (!f_.Fdef.valid()) { // F = I at the rescue point: the table is relative to it
-        f_.registerDeformationGradient(store_, true);
+        methods::DeformationGradient<Dim>::addFields(store_, f_, true);
         auto F = std::make_unique<methods::DeformationGradient<Dim>>(true);
         method_->addModule(std::move(F));
         for (std::size_t i = 0; i < store_.localCount(); ++i) {

@@ -1,7 +1,8 @@
 #pragma once
 // The particle record: typed handles to the fields of the store that every method, module,
-// diagnostic and writer may read. Each group is registered by the module that needs it (methods/
-// modules), with the flags that say where the field travels: snapshots (kOutput), checkpoints
+// diagnostic and writer may read. The handles live here; each group's fields are registered by
+// the module that owns them (methods/modules/*.hpp, addFields), with the flags that say where
+// the field travels: snapshots (kOutput), checkpoints
 // (kCheckpoint), remote ghosts (kHalo, kRefresh) and wall images (kReflectVector,
 // kReflectTensor). Rates are
 // checkpointed (an exact restart needs the rates of the last step); per-step sums and scratch
@@ -95,102 +96,6 @@ template <int Dim> struct ParticleFields {
   bool hasFlaws() const { return flawCount.valid(); }
   bool hasCap() const { return volumetricStrain.valid(); }
   bool hasPAlpha() const { return alpha.valid(); }
-
-  // What every particle method carries: identity, kinematics, mass, thermodynamic state, and
-  // the rates and sums of the SPH step. The neighbor search and the force loop read the first
-  // group of ghosts; the density pass changes rho, p and cs after the ghosts were made.
-  void registerCommon(ParticleStore& s) {
-    constexpr unsigned out = kOutput | kCheckpoint, ck = kCheckpoint, none = 0;
-    id = s.add<ParticleId>("id", out | kHalo);
-    x = s.add<Vec<Dim>>("position", out | kHalo);
-    v = s.add<Vec<Dim>>("velocity", out | kHalo | kReflectVector);
-    m = s.add<double>("mass", out | kHalo);
-    rho = s.add<double>("density", out | kHalo | kRefresh);
-    p = s.add<double>("pressure", out | kHalo | kRefresh);
-    e = s.add<double>("specific_internal_energy", out);
-    cs = s.add<double>("sound_speed", out | kHalo | kRefresh);
-    material = s.add<std::int32_t>("material", out | kHalo);
-    body = s.add<std::int32_t>("body", out);
-    h = s.add<double>("smoothing_length", ck | kHalo);
-    a = s.add<Vec<Dim>>("acceleration", ck);
-    aOld = s.add<Vec<Dim>>("acceleration_previous", none);
-    dedt = s.add<double>("specific_internal_energy_rate", ck);
-    dedtOld = s.add<double>("specific_internal_energy_rate_previous", none);
-    drhodt = s.add<double>("density_rate", ck);
-    drhodtOld = s.add<double>("density_rate_previous", none);
-    sumWH = s.add<double>("sum_wh", none);
-    muMax = s.add<double>("mu_max", none);
-  }
-  // Balsara (1995): div v and |curl v| of the last force loop, read of neighbors.
-  void registerBalsara(ParticleStore& s) {
-    divv = s.add<double>("velocity_divergence", kCheckpoint | kHalo);
-    curlv = s.add<double>("velocity_curl", kCheckpoint | kHalo);
-  }
-  // gradientInHalo: neighbors read L (the reconstructed artificial viscosity).
-  void registerStrength(ParticleStore& s, bool gradientInHalo = false) {
-    S = s.add<Tensor<3>>("deviatoric_stress", kCheckpoint | kHalo | kReflectTensor);
-    L = s.add<Tensor<3>>("velocity_gradient",
-                         kCheckpoint | (gradientInHalo ? kHalo | kReflectTensor : 0u));
-    plasticStrain = s.add<double>("plastic_strain", kOutput | kCheckpoint);
-    temperature = s.add<double>("temperature", kOutput | kCheckpoint);
-  }
-  void registerDamage(ParticleStore& s, bool flaws, bool tensor = false) {
-    constexpr unsigned out = kOutput | kCheckpoint;
-    damage = s.add<double>("damage", out | kHalo);
-    Sintact = s.add<Tensor<3>>("deviatoric_stress_intact", kCheckpoint);
-    if (!flaws) return;
-    flawCount = s.add<std::int32_t>("flaw_count", out);
-    flawsActive = s.add<std::int32_t>("flaws_active", out);
-    flawScale = s.add<double>("flaw_strain_scale", kCheckpoint);
-    flawNext = s.add<double>("next_flaw_strain", out);
-    if (!tensor) return;
-    // Snapshots get the Dim x Dim block as `damage_tensor` (app/RunOutput.cpp).
-    damageTensor = s.add<Tensor<3>>("damage_tensor_3x3", kCheckpoint);
-    strainTensor = s.add<Tensor<3>>("strain_tensor", kCheckpoint);
-  }
-  void registerCap(ParticleStore& s) {
-    constexpr unsigned out = kOutput | kCheckpoint;
-    volumetricStrain = s.add<double>("plastic_volumetric_strain", out);
-    capPosition = s.add<double>("cap_position", out);
-    if (!porosity.valid()) porosity = s.add<double>("porosity", out);
-    porePressure = s.add<double>("pore_pressure", out);
-  }
-  void registerPAlpha(ParticleStore& s, bool elastic) {
-    constexpr unsigned out = kOutput | kCheckpoint;
-    alpha = s.add<double>("porosity_alpha", out);
-    if (elastic) alphaPlastic = s.add<double>("plastic_distension", out);
-    if (!porosity.valid()) porosity = s.add<double>("porosity", out);
-  }
-  // F_{n+1} = (I + dt L_n) F_n of the owned particles: snapshots ([N,3,3]) and checkpoints;
-  // `transient` (a failed run's replay): neither, the fields live for the replay only.
-  void registerDeformationGradient(ParticleStore& s, bool transient = false) {
-    Fdef = s.add<Tensor<3>>("deformation_gradient", transient ? 0u : kOutput | kCheckpoint);
-    rhoUpdate = s.add<double>("update_density", transient ? 0u : kCheckpoint);
-    eUpdate = s.add<double>("update_specific_internal_energy", transient ? 0u : kCheckpoint);
-  }
-  // Sent to ghosts on its own, after it is computed (not with the halo).
-  void registerKernelCorrection(ParticleStore& s) {
-    B = s.add<Tensor<3>>("kernel_correction", kReflectTensor);
-  }
-  void registerSmoothingTensor(ParticleStore& s) {
-    H = s.add<Tensor<Dim>>("smoothing_tensor", kCheckpoint | kHalo | kReflectTensor);
-    cellMoment = s.add<Tensor<Dim>>("voronoi_second_moment", kCheckpoint);
-    cellAge = s.add<std::int32_t>("voronoi_age", kCheckpoint);
-  }
-
-  // The groups a configuration needs, in the order the modules register them (tests and tools
-  // that build a store by hand).
-  struct Groups {
-    bool balsara = false, strength = false, corrected = false, asph = false, damage = false;
-  };
-  void registerIn(ParticleStore& s, Groups g) {
-    registerCommon(s);
-    if (g.balsara) registerBalsara(s);
-    if (g.strength) registerStrength(s);
-    if (g.corrected) registerKernelCorrection(s);
-    if (g.asph) registerSmoothingTensor(s);
-    if (g.damage) registerDamage(s, false);
-  }
 };
 
 } // namespace spall

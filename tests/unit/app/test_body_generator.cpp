@@ -2,6 +2,8 @@
 #include "spall/app/BodyGenerator.hpp"
 #include "spall/core/Random.hpp"
 
+#include "unit/FieldGroups.hpp"
+
 #include <filesystem>
 #include <fstream>
 #include <gtest/gtest.h>
@@ -26,7 +28,7 @@ template <int Dim> struct Generated {
   ParticleFields<Dim> f;
   std::vector<app::BodySummary> bodies;
   explicit Generated(const Deck& deck) {
-    f.registerIn(store, {});
+    fixtures::registerFields(store, f);
     const std::vector<materials::Material> materials{{materials::IdealGas{1.4}, std::nullopt}};
     bodies = app::generateBodies<Dim>(deck, materials, store, f);
   }

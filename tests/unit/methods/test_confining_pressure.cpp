@@ -2,6 +2,7 @@
 // ConfiningPressure.hpp); the load itself is verified in tests/verification/
 // test_confining_pressure.py.
 #include "spall/methods/modules/ConfiningPressure.hpp"
+#include "spall/methods/modules/Hydro.hpp"
 
 #include <gtest/gtest.h>
 
@@ -23,7 +24,7 @@ TEST(ConfiningPressure, TableIsLinearBetweenRowsAndConstantOutside) {
 TEST(ConfiningPressure, EachParticleGetsItsBodysLoadAtTheTime) {
   ParticleStore s;
   ParticleFields<2> f;
-  f.registerCommon(s);
+  Hydro<2>::addFields(s, f);
   ConfiningPressure<2> module({{2, {{0.0, 0.0}, {10.0, 100.0}}}, {0, {{0.0, 5.0}}}});
   module.registerFields(s, f);
   s.resizeLocal(4);

@@ -5,6 +5,7 @@
 // correction where enabled, the rates).
 #include "spall/materials/MaterialUpdate.hpp"
 #include "spall/solvers/SphSolver.hpp"
+#include "unit/FieldGroups.hpp"
 
 #include <limits>
 #include <memory>
@@ -25,10 +26,11 @@ struct SolverLattice {
   SolverLattice(int n, const SolverConfig& cfg, bool solid, const Tensor<2>& G = Tensor<2>::Zero(),
                 bool damage = false)
       : cfg_(cfg), solid_(solid), damage_(damage) {
-    f.registerIn(store, {.strength = solid,
-                         .corrected = solid && cfg.velocity_gradient == VelocityGradient::Corrected,
-                         .asph = cfg.method == SolverMethod::Asph,
-                         .damage = damage});
+    registerFields(store, f,
+                   {.strength = solid,
+                    .corrected = solid && cfg.velocity_gradient == VelocityGradient::Corrected,
+                    .asph = cfg.method == SolverMethod::Asph,
+                    .damage = damage});
     store.resizeLocal(static_cast<std::size_t>(n * n));
     for (int a = 0; a < n; ++a)
       for (int b = 0; b < n; ++b) {

@@ -33,7 +33,7 @@ Tensor<3> symmetric3(double xx, double yy, double xy) {
 TEST(Boundaries, WallImagesFollowTheFieldFlagsAndRefreshInCreationOrder) {
   ParticleStore s;
   ParticleFields<2> f;
-  f.registerIn(s, {.strength = true, .corrected = true, .asph = true});
+  fixtures::registerFields(s, f, {.strength = true, .corrected = true, .asph = true});
   s.resizeLocal(1);
   s[f.x][0] = Vec<2>(0.1, 0.2); // near both walls of the corner x = 0, y = 0
   s[f.v][0] = Vec<2>(-3.0, -4.0);
@@ -82,7 +82,7 @@ TEST(Boundaries, WallImagesFollowTheFieldFlagsAndRefreshInCreationOrder) {
 TEST(ParticleFields, FlagsSayWhatGhostsReceive) {
   ParticleStore s;
   ParticleFields<3> f;
-  f.registerIn(s, {.balsara = true, .strength = true});
+  fixtures::registerFields(s, f, {.balsara = true, .strength = true});
   const auto names = [&](unsigned flags) {
     std::vector<std::string> out;
     for (std::size_t c : s.columnsWith(flags)) out.push_back(s.columns()[c]->info().name);
@@ -110,7 +110,7 @@ TEST(ParticleFields, FlagsSayWhatGhostsReceive) {
 TEST(Boundaries, ARigidWallStopsTheApproachOfParticlesOnItAndKeepsTheirEnergy) {
   ParticleStore s;
   ParticleFields<2> f;
-  f.registerIn(s, {});
+  fixtures::registerFields(s, f);
   const double h = 1.0e-3;
   // On the wall moving in; just above the hold moving in; on the wall moving out; on the wall
   // moving in, pulled out; a step across moving in; far behind (not the wall's).

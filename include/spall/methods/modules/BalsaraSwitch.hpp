@@ -9,7 +9,12 @@ namespace spall::methods {
 
 template <int Dim> class BalsaraSwitch final : public Module<Dim> {
 public:
-  void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override { f.registerBalsara(s); }
+  // Balsara (1995): div v and |curl v| of the last force loop, read of neighbors.
+  static void addFields(ParticleStore& s, ParticleFields<Dim>& f) {
+    f.divv = s.add<double>("velocity_divergence", spall::kCheckpoint | spall::kHalo);
+    f.curlv = s.add<double>("velocity_curl", spall::kCheckpoint | spall::kHalo);
+  }
+  void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override { addFields(s, f); }
 };
 
 } // namespace spall::methods

@@ -8,7 +8,14 @@ namespace spall::methods {
 
 template <int Dim> class CapPlasticity final : public Module<Dim> {
 public:
-  void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override { f.registerCap(s); }
+  static void addFields(ParticleStore& s, ParticleFields<Dim>& f) {
+    constexpr unsigned out = spall::kOutput | spall::kCheckpoint;
+    f.volumetricStrain = s.add<double>("plastic_volumetric_strain", out);
+    f.capPosition = s.add<double>("cap_position", out);
+    if (!f.porosity.valid()) f.porosity = s.add<double>("porosity", out);
+    f.porePressure = s.add<double>("pore_pressure", out);
+  }
+  void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override { addFields(s, f); }
   void initialise(ParticleStore& s, const ParticleFields<Dim>& f,
                   const RunStart& start) const override {
     for (std::size_t i = start.first; i < s.localCount(); ++i) {

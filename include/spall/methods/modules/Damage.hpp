@@ -22,8 +22,22 @@ public:
       anyTensor_ = anyTensor_ || (g && g->tensor);
     }
   }
+  static void addFields(ParticleStore& s, ParticleFields<Dim>& f, bool flaws, bool tensor = false) {
+    constexpr unsigned out = spall::kOutput | spall::kCheckpoint;
+    f.damage = s.add<double>("damage", out | spall::kHalo);
+    f.Sintact = s.add<Tensor<3>>("deviatoric_stress_intact", spall::kCheckpoint);
+    if (!flaws) return;
+    f.flawCount = s.add<std::int32_t>("flaw_count", out);
+    f.flawsActive = s.add<std::int32_t>("flaws_active", out);
+    f.flawScale = s.add<double>("flaw_strain_scale", spall::kCheckpoint);
+    f.flawNext = s.add<double>("next_flaw_strain", out);
+    if (!tensor) return;
+    // Snapshots get the Dim x Dim block as `damage_tensor` (app/RunOutput.cpp).
+    f.damageTensor = s.add<Tensor<3>>("damage_tensor_3x3", spall::kCheckpoint);
+    f.strainTensor = s.add<Tensor<3>>("strain_tensor", spall::kCheckpoint);
+  }
   void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override {
-    f.registerDamage(s, anyFlaws_, anyTensor_);
+    addFields(s, f, anyFlaws_, anyTensor_);
   }
   void initialise(ParticleStore& s, const ParticleFields<Dim>& f,
                   const RunStart& start) const override {

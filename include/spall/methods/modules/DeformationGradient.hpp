@@ -14,8 +14,17 @@ template <int Dim> class DeformationGradient final : public Module<Dim> {
 public:
   // `transient`: for a failed run's replay only (its fields in no snapshot or checkpoint).
   explicit DeformationGradient(bool transient = false) : transient_(transient) {}
+  // F_{n+1} = (I + dt L_n) F_n of the owned particles: snapshots ([N,3,3]) and checkpoints;
+  // `transient` (a failed run's replay): neither, the fields live for the replay only.
+  static void addFields(ParticleStore& s, ParticleFields<Dim>& f, bool transient = false) {
+    f.Fdef = s.add<Tensor<3>>("deformation_gradient",
+                              transient ? 0u : spall::kOutput | spall::kCheckpoint);
+    f.rhoUpdate = s.add<double>("update_density", transient ? 0u : unsigned{spall::kCheckpoint});
+    f.eUpdate = s.add<double>("update_specific_internal_energy",
+                              transient ? 0u : unsigned{spall::kCheckpoint});
+  }
   void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override {
-    f.registerDeformationGradient(s, transient_);
+    addFields(s, f, transient_);
   }
   void initialise(ParticleStore& s, const ParticleFields<Dim>& f,
                   const RunStart& start) const override {

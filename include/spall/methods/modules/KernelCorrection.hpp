@@ -9,9 +9,11 @@ namespace spall::methods {
 
 template <int Dim> class KernelCorrection final : public Module<Dim> {
 public:
-  void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override {
-    f.registerKernelCorrection(s);
+  // Sent to ghosts on its own, after it is computed (not with the halo).
+  static void addFields(ParticleStore& s, ParticleFields<Dim>& f) {
+    f.B = s.add<Tensor<3>>("kernel_correction", spall::kReflectTensor);
   }
+  void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override { addFields(s, f); }
 };
 
 } // namespace spall::methods

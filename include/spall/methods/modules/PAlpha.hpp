@@ -13,8 +13,14 @@ public:
   // `elastic`: some material has elastic distension (its plastic part is then a field too).
   PAlpha(std::vector<double> alpha0, bool elastic)
       : alpha0_(std::move(alpha0)), elastic_(elastic) {}
+  static void addFields(ParticleStore& s, ParticleFields<Dim>& f, bool elastic) {
+    constexpr unsigned out = spall::kOutput | spall::kCheckpoint;
+    f.alpha = s.add<double>("porosity_alpha", out);
+    if (elastic) f.alphaPlastic = s.add<double>("plastic_distension", out);
+    if (!f.porosity.valid()) f.porosity = s.add<double>("porosity", out);
+  }
   void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override {
-    f.registerPAlpha(s, elastic_);
+    addFields(s, f, elastic_);
   }
   void initialise(ParticleStore& s, const ParticleFields<Dim>& f,
                   const RunStart& start) const override {

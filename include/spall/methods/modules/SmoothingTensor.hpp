@@ -7,9 +7,13 @@ namespace spall::methods {
 
 template <int Dim> class SmoothingTensor final : public Module<Dim> {
 public:
-  void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override {
-    f.registerSmoothingTensor(s);
+  static void addFields(ParticleStore& s, ParticleFields<Dim>& f) {
+    f.H = s.add<Tensor<Dim>>("smoothing_tensor",
+                             spall::kCheckpoint | spall::kHalo | spall::kReflectTensor);
+    f.cellMoment = s.add<Tensor<Dim>>("voronoi_second_moment", spall::kCheckpoint);
+    f.cellAge = s.add<std::int32_t>("voronoi_age", spall::kCheckpoint);
   }
+  void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override { addFields(s, f); }
   void initialise(ParticleStore& s, const ParticleFields<Dim>& f,
                   const RunStart& start) const override {
     for (std::size_t i = start.first; i < s.localCount(); ++i) {

@@ -13,8 +13,18 @@ template <int Dim> class Strength final : public Module<Dim> {
 public:
   Strength(std::vector<double> roomTemperature, bool gradientInHalo)
       : T0_(std::move(roomTemperature)), gradientInHalo_(gradientInHalo) {}
+  // gradientInHalo: neighbors read L (the reconstructed artificial viscosity).
+  static void addFields(ParticleStore& s, ParticleFields<Dim>& f, bool gradientInHalo = false) {
+    f.S = s.add<Tensor<3>>("deviatoric_stress",
+                           spall::kCheckpoint | spall::kHalo | spall::kReflectTensor);
+    f.L = s.add<Tensor<3>>("velocity_gradient",
+                           spall::kCheckpoint |
+                               (gradientInHalo ? spall::kHalo | spall::kReflectTensor : 0u));
+    f.plasticStrain = s.add<double>("plastic_strain", spall::kOutput | spall::kCheckpoint);
+    f.temperature = s.add<double>("temperature", spall::kOutput | spall::kCheckpoint);
+  }
   void registerFields(ParticleStore& s, ParticleFields<Dim>& f) override {
-    f.registerStrength(s, gradientInHalo_);
+    addFields(s, f, gradientInHalo_);
   }
   void initialise(ParticleStore& s, const ParticleFields<Dim>& f,
                   const RunStart& start) const override {
