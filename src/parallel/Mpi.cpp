@@ -1,5 +1,9 @@
 #include "spall/parallel/Mpi.hpp"
 
+#include <cstdlib>
+#include <filesystem>
+#include <system_error>
+
 namespace spall::parallel {
 
 void broadcast(std::string& s, int root, MPI_Comm comm) {
@@ -46,14 +50,41 @@ void MpiContext::sumInRankOrder(std::span<double> values) const {
   }
 }
 
-MpiSession::MpiSession(int& argc, char**& argv) {
+std::string preparePrivateSingleton() {
+  for (const char* launched : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"})
+    if (std::getenv(launched)) return {};
+  for (const char* given : {"OMPI_MCA_ess_singleton_isolated", "OMPI_MCA_orte_tmpdir_base"})
+    if (std::getenv(given)) return {};
+  const char* tmp = std::getenv("TMPDIR");
+  std::string name = std::string(tmp && *tmp ? tmp : "/tmp") + "/spall-mpi-XXXXXX";
+  if (!::mkdtemp(name.data())) return {}; // an ordinary singleton then
+  ::setenv("OMPI_MCA_orte_tmpdir_base", name.c_str(), 1);
+  ::setenv("OMPI_MCA_ess_singleton_isolated", "1", 1);
+  return name;
+}
+
+void singletonStarted(const std::string& dir) {
+  if (dir.empty()) return;
+  ::unsetenv("OMPI_MCA_orte_tmpdir_base");
+  ::unsetenv("OMPI_MCA_ess_singleton_isolated");
+}
+
+void removeSessionBase(const std::string& dir) {
+  if (dir.empty()) return;
+  std::error_code ec; // what Open MPI left (it removes its own tree at MPI_Finalize)
+  std::filesystem::remove_all(dir, ec);
+}
+
+MpiSession::MpiSession(int& argc, char**& argv) : sessionBase_(preparePrivateSingleton()) {
   int provided = 0;
   MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+  singletonStarted(sessionBase_);
 }
 MpiSession::~MpiSession() {
   int finalized = 0;
   MPI_Finalized(&finalized);
   if (!finalized) MPI_Finalize();
+  removeSessionBase(sessionBase_);
 }
 
 } // namespace spall::parallel

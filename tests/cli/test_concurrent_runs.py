@@ -3,9 +3,11 @@
 write every snapshot, and the same deck must give the same bits in each.
 
 Open MPI places each process's MPI-IO scratch files (the shared file pointer's) in a session
-directory. Isolated singletons (OMPI_MCA_ess_singleton_isolated=1) all get the same one, so one
-run's MPI_Finalize deletes another's files and its next H5Fcreate fails. With that setting, 2 of
-18 such runs failed here (three at a time); spall runs ordinary singletons, which never share one.
+directory. Isolated singletons (OMPI_MCA_ess_singleton_isolated=1) all name theirs alike, so in
+one shared temporary directory one run's MPI_Finalize deletes another's files and its next
+H5Fcreate fails: 2 of 18 such runs failed here, three at a time. spall gives each singleton a
+session directory of its own (parallel/Mpi.hpp, preparePrivateSingleton). Also: no spall-mpi-*
+directory is left behind.
 Three runs at a time, eight rounds: every run writes a snapshot per step, so each of the other
 runs' finishes falls while it is writing.
 
@@ -39,6 +41,9 @@ def last_state(out):
 
 
 with tempfile.TemporaryDirectory() as tmp:
+    # The runs' session directories go under TMPDIR: here, so that what is left can be seen.
+    scratch = Path(tmp) / "tmpdir"
+    scratch.mkdir()
     reference = None
     for round_ in range(ROUNDS):
         outs = [Path(tmp) / f"r{round_}_{k}" for k in range(AT_ONCE)]
@@ -47,7 +52,8 @@ with tempfile.TemporaryDirectory() as tmp:
                                    "--set", "output.every_steps=1"],
                                   stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
                                   stderr=subprocess.PIPE, text=True,
-                                  env=dict(os.environ, OMP_NUM_THREADS="1"))
+                                  env=dict(os.environ, OMP_NUM_THREADS="1",
+                                           TMPDIR=str(scratch)))
                  for out in outs]
         for out, p in zip(outs, procs):
             _, err = p.communicate()
@@ -61,6 +67,8 @@ with tempfile.TemporaryDirectory() as tmp:
                 reference = state
             same = all(np.array_equal(state[k], reference[k]) for k in state)
             check(same, f"{out.name}: last snapshot bit for bit the same as the first run's")
+    left = sorted(p.name for p in scratch.iterdir())
+    check(not left, f"no session directory left behind ({', '.join(left) or 'none'})")
 
 if failures:
     print(f"{len(failures)} failure(s)")

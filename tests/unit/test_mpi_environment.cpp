@@ -4,6 +4,10 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include "spall/parallel/Mpi.hpp"
+
+#include <string>
+
 namespace {
 
 class MpiEnvironment : public ::testing::Environment {
@@ -12,8 +16,10 @@ public:
     int initialized = 0;
     MPI_Initialized(&initialized);
     if (!initialized) {
+      sessionBase_ = spall::parallel::preparePrivateSingleton();
       int provided = 0;
       MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+      spall::parallel::singletonStarted(sessionBase_);
       owner_ = true;
     }
   }
@@ -21,10 +27,12 @@ public:
     int finalized = 0;
     MPI_Finalized(&finalized);
     if (owner_ && !finalized) MPI_Finalize();
+    if (owner_) spall::parallel::removeSessionBase(sessionBase_);
   }
 
 private:
   bool owner_ = false;
+  std::string sessionBase_;
 };
 
 // gtest takes ownership; registration before main() is allowed.

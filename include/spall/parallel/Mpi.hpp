@@ -76,17 +76,29 @@ template <class Error, class F> void onRoot(MPI_Comm comm, F&& f) {
   throw Error(message);
 }
 
-// RAII MPI_Init_thread / MPI_Finalize for the executable. A process started without mpirun is an
-// ordinary Open MPI singleton: it starts its own support daemon (~0.2 s). Open MPI's "isolated"
-// singleton would save that, but all isolated singletons share one session directory
-// (jf.0/1), so concurrent one-rank runs delete each other's MPI-IO files there and their
-// snapshot writes fail (tests/cli/test_concurrent_runs.py).
+// Before MPI_Init, in a process no launcher started (a singleton: `spall check`, a one-rank run,
+// a unit test): Open MPI is told the process never spawns, so it starts no support daemon for it
+// (0.35 -> 0.24 s for `spall info`), and is given a session directory of its own, made here
+// under $TMPDIR. Isolated singletons all name their session directory alike (jf.0/1), so with a
+// shared one each one's MPI_Finalize deletes the others' MPI-IO scratch files and their snapshot
+// writes fail (tests/cli/test_concurrent_runs.py). Returns the directory ("" when nothing was
+// set: under mpirun or srun, or where the user set either variable); removeSessionBase() after
+// MPI_Finalize removes it. After MPI_Init, singletonStarted() takes the two variables out of the
+// environment again, so that a process this one starts (a test's `spall run`) makes its own.
+std::string preparePrivateSingleton();
+void singletonStarted(const std::string& dir);
+void removeSessionBase(const std::string& dir);
+
+// RAII MPI_Init_thread / MPI_Finalize for the executable (preparePrivateSingleton first).
 class MpiSession {
 public:
   MpiSession(int& argc, char**& argv);
   ~MpiSession();
   MpiSession(const MpiSession&) = delete;
   MpiSession& operator=(const MpiSession&) = delete;
+
+private:
+  std::string sessionBase_;
 };
 
 } // namespace spall::parallel
