@@ -1,4 +1,5 @@
 #include "spall/app/SystemInfo.hpp"
+#include "spall/io/Deck.hpp"
 
 #include <Eigen/Core>
 #include <fmt/format.h>
@@ -41,6 +42,52 @@ std::size_t availableMemoryBytes() {
          static_cast<std::size_t>(sysconf(_SC_PAGE_SIZE));
 }
 
+namespace {
+
+// "a, b, c" of an enum's names, without `skip` (a name that is no model, e.g. "none").
+template <class E, std::size_t N>
+std::string names(const NameTable<E, N>& table, std::string_view skip = "none") {
+  std::string out;
+  for (auto n : table.names())
+    if (n != skip) out += (out.empty() ? "" : ", ") + std::string(n);
+  return out;
+}
+
+// What this build runs, from the name tables the deck reader parses with: a new model is
+// listed where it is registered.
+std::string featureList() {
+  return fmt::format(
+      "dimensions 1/2/3, axisymmetric rz; solvers: {} ({}; {}); kernels: {}; EOS: {}; "
+      "porosity: {}; strength: {}; damage: {}; erosion: {}; boundaries: {} (with [damping]); "
+      "MPI decomposition, checkpoint/restart; output: HDF5 + XDMF, CSV, penetration.csv; "
+      "spall element, spall history, spall keys; bodies that join at insert_time, [[jet]] "
+      "files",
+      names(kSolverMethodNames), names(kMpmShapeNames), names(kMpmTransferNames),
+      names(kKernelNames), names(kEosNames), names(kPorosityNames), names(kStrengthNames),
+      names(kDamageNames), names(materials::kErosionNames), names(kBoundaryTypeNames));
+}
+
+// `text` in lines of at most 100 characters, the first after `head`, the others indented as far.
+std::string wrapped(const std::string& head, const std::string& text) {
+  const std::string indent(head.size(), ' ');
+  std::string out = head, line;
+  std::size_t at = 0;
+  while (at < text.size()) {
+    std::size_t end = text.find(' ', at);
+    if (end == std::string::npos) end = text.size();
+    const std::string word = text.substr(at, end - at);
+    if (!line.empty() && head.size() + line.size() + 1 + word.size() > 100) {
+      out += line + "\n" + indent;
+      line.clear();
+    }
+    line += (line.empty() ? "" : " ") + word;
+    at = end + 1;
+  }
+  return out + line + "\n";
+}
+
+} // namespace
+
 std::string infoText() {
   char mpiVersion[MPI_MAX_LIBRARY_VERSION_STRING];
   int len = 0;
@@ -60,14 +107,7 @@ std::string infoText() {
   s += fmt::format("Eigen      {}.{}.{}\n", EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION,
                    EIGEN_MINOR_VERSION);
   s += fmt::format("toml++     {}.{}.{}\n", TOML_LIB_MAJOR, TOML_LIB_MINOR, TOML_LIB_PATCH);
-  s += "features   dimensions 1/2/3, axisymmetric rz; solvers: sph, asph, mpm (linear, gimp,\n"
-       "           cpgimp, cpdi; flip, apic); kernels: cubic_spline, wendland_c2, wendland_c4;\n"
-       "           EOS: ideal_gas, linear, mie_gruneisen, tillotson, p_alpha porosity; strength:\n"
-       "           elastic, von_mises, johnson_cook, zerilli_armstrong, cap; damage: grady_kipp,\n"
-       "           johnson_cook; boundaries: rigid_wall, periodic, pressure (with [damping]);\n"
-       "           MPI decomposition, checkpoint/restart; output: HDF5 + XDMF, CSV,\n"
-       "           penetration.csv; spall element, spall history; bodies that join at\n"
-       "           insert_time, [[jet]] files\n";
+  s += wrapped("features   ", featureList());
   return s;
 }
 
