@@ -30,8 +30,7 @@ std::string failureHint(const FailureSigns& s) {
         "does not help there; solver.method = \"sph\" runs such scenes "
         "(decks/topics/safe-defaults.md)",
         s.pMin);
-  if (s.nonFinite)
-    return "hint: try a smaller solver.cfl; see decks/topics/failures.md";
+  if (s.nonFinite) return "hint: try a smaller solver.cfl; see decks/topics/failures.md";
   if (s.energy)
     return "hint: a run that creates energy is blowing up, most often where particles pair or "
            "interpenetrate; try a smaller solver.cfl or a finer resolution, and watch the "

@@ -32,12 +32,6 @@ std::string readText(const std::string& path) {
   return text.str();
 }
 
-double norm(const std::vector<double>& v) {
-  double s = 0.0;
-  for (double x : v) s += x * x;
-  return std::sqrt(s);
-}
-
 double determinant(const std::vector<std::vector<double>>& m) {
   switch (m.size()) {
   case 1:
@@ -74,8 +68,6 @@ private:
   void readDecomposition(const TableReader& r, DecompositionConfig& d) const;
   void readBody(const TableReader& r, const std::vector<MaterialConfig>& materials,
                 BodyConfig& b) const;
-  void readShape(const TableReader& r, ShapeConfig& s) const;
-  void checkAxisymmetric(const TableReader& r, double centerR, double radius) const;
   void readEnergySource(const TableReader& r, EnergySourceConfig& e) const;
   void readBoundary(const TableReader& r, BoundaryConfig& b,
                     const std::vector<BodyConfig>& bodies) const;
@@ -260,7 +252,7 @@ void DeckReader::readBody(const TableReader& r, const std::vector<MaterialConfig
 
   const toml::table* shape = r.subtable("shape");
   if (!shape) r.missing("shape");
-  readShape(reader(*shape, r.context().child("shape")), b.shape);
+  dd::readShape(reader(*shape, r.context().child("shape")), b.shape, dimension_, rz_);
   b.spacing = r.required(r.number("spacing"), "spacing");
   r.check(b.spacing > 0.0, "spacing", "> 0", b.spacing);
   b.lattice = r.choice("lattice", kLatticeNames, b.lattice);
@@ -306,66 +298,6 @@ void DeckReader::readBody(const TableReader& r, const std::vector<MaterialConfig
                         "cannot be given a velocity field");
 }
 
-// In geometry 'rz' a round shape is a body of revolution: centred on the axis (a sphere, a
-// shell) or clear of it (a torus); one that straddles the axis would be two bodies in one.
-void DeckReader::checkAxisymmetric(const TableReader& r, double centerR, double radius) const {
-  if (!rz_ || centerR == 0.0 || centerR - radius >= 0.0) return;
-  r.fail("center", r.quoted("center") + " has r = " + dd::formatNumber(centerR) +
-                       ": in geometry 'rz' a round shape is centred on the axis (r = 0) or lies "
-                       "clear of it (r - radius >= 0)");
-}
-
-void DeckReader::readShape(const TableReader& r, ShapeConfig& s) const {
-  s.where = r.where();
-  const std::string type = r.choice("type", dd::typeNames("body.shape"), std::nullopt);
-  s.type = kShapeNames.at(type);
-  const std::string dims = "; run.dimension is " + std::to_string(dimension_) + ")";
-  if (s.type == ShapeType::Cylinder && dimension_ != 3)
-    r.fail("type", "shape 'cylinder' is 3D only (use 'sphere' or 'box' in 1D and 2D" + dims);
-  if (s.type == ShapeType::Ring && dimension_ != 2)
-    r.fail("type", "shape 'ring' is 2D only (use 'sphere' or 'box' in 1D and 3D" + dims);
-  dd::allowTypedKeys(r, "body.shape", type, "shape");
-
-  switch (s.type) {
-  case ShapeType::Box:
-    s.min = point(r, "min");
-    s.max = point(r, "max");
-    for (std::size_t a = 0; a < dimension_; ++a)
-      if (!(s.min[a] < s.max[a]))
-        r.fail("max", r.quoted("max") + " must exceed min on every axis (axis " +
-                          std::to_string(a) + ": min " + dd::formatNumber(s.min[a]) + ", max " +
-                          dd::formatNumber(s.max[a]) + ")");
-    if (rz_ && s.min[0] < 0.0)
-      r.fail("min", r.quoted("min") + " has r = " + dd::formatNumber(s.min[0]) +
-                        " < 0: in geometry 'rz' x is the radius (the axis at r = 0)");
-    break;
-  case ShapeType::Sphere:
-    s.center = point(r, "center");
-    s.radius = r.required(r.number("radius"), "radius");
-    r.check(s.radius > 0.0, "radius", "> 0", s.radius);
-    checkAxisymmetric(r, s.center[0], s.radius);
-    break;
-  case ShapeType::Cylinder:
-    s.base = point(r, "base");
-    s.axis = point(r, "axis");
-    if (norm(s.axis) == 0.0) r.fail("axis", r.quoted("axis") + " must not be the zero vector");
-    s.radius = r.required(r.number("radius"), "radius");
-    r.check(s.radius > 0.0, "radius", "> 0", s.radius);
-    s.length = r.required(r.number("length"), "length");
-    r.check(s.length > 0.0, "length", "> 0", s.length);
-    break;
-  case ShapeType::Ring:
-    s.center = point(r, "center");
-    s.inner_radius = r.required(r.number("inner_radius"), "inner_radius");
-    r.check(s.inner_radius >= 0.0, "inner_radius", ">= 0", s.inner_radius);
-    s.outer_radius = r.required(r.number("outer_radius"), "outer_radius");
-    r.check(s.inner_radius < s.outer_radius, "inner_radius",
-            "< outer_radius (" + dd::formatNumber(s.outer_radius) + ")", s.inner_radius);
-    checkAxisymmetric(r, s.center[0], s.outer_radius);
-    break;
-  }
-}
-
 void DeckReader::readEnergySource(const TableReader& r, EnergySourceConfig& e) const {
   r.allowOnly(*dd::schemaKeys("energy_source"));
   e.where = r.where();
@@ -384,7 +316,7 @@ void DeckReader::readBoundary(const TableReader& r, BoundaryConfig& b,
   case BoundaryType::RigidWall: {
     b.point = point(r, "point");
     b.normal = point(r, "normal");
-    const double n = norm(b.normal);
+    const double n = dd::norm(b.normal);
     if (n == 0.0) r.fail("normal", r.quoted("normal") + " must not be the zero vector");
     for (double& x : b.normal) x /= n;
     // A mirror plane in r-z is a plane (normal along z) or a cylinder (along r); an inclined

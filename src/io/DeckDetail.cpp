@@ -122,6 +122,12 @@ std::string typeName(const toml::node& node) {
   return "nothing";
 }
 
+double norm(const std::vector<double>& v) {
+  double s = 0.0;
+  for (double x : v) s += x * x;
+  return std::sqrt(s);
+}
+
 std::string formatNumber(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", v);

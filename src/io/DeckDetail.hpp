@@ -143,6 +143,11 @@ void readJet(const TableReader& r, std::size_t dimension, bool rz,
              const std::vector<MaterialConfig>& materials, std::vector<BodyConfig>& bodies,
              const std::string& name);
 
+// A body's shape (DeckShape.cpp); `rz`: run.geometry = "rz" (x the radius).
+void readShape(const TableReader& r, ShapeConfig& s, std::size_t dimension, bool rz);
+// The Euclidean length of a vector value.
+double norm(const std::vector<double>& v);
+
 // A body's velocity fields (DeckBodyVelocity.cpp): radial, cantilever, linear, sine.
 void readVelocityFields(const TableReader& r, std::size_t dimension, BodyConfig& b);
 

@@ -50,6 +50,9 @@ void MpiContext::sumInRankOrder(std::span<double> values) const {
   }
 }
 
+namespace {
+
+// The session directory of a singleton (include/spall/parallel/Mpi.hpp); "" when none is set.
 std::string preparePrivateSingleton() {
   for (const char* launched : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"})
     if (std::getenv(launched)) return {};
@@ -75,9 +78,16 @@ void removeSessionBase(const std::string& dir) {
   std::filesystem::remove_all(dir, ec);
 }
 
+} // namespace
+
 MpiSession::MpiSession(int& argc, char**& argv) : sessionBase_(preparePrivateSingleton()) {
   int provided = 0;
   MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+  singletonStarted(sessionBase_);
+}
+MpiSession::MpiSession() : sessionBase_(preparePrivateSingleton()) {
+  int provided = 0;
+  MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
   singletonStarted(sessionBase_);
 }
 MpiSession::~MpiSession() {

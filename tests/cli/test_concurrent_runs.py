@@ -6,7 +6,7 @@ Open MPI places each process's MPI-IO scratch files (the shared file pointer's) 
 directory. Isolated singletons (OMPI_MCA_ess_singleton_isolated=1) all name theirs alike, so in
 one shared temporary directory one run's MPI_Finalize deletes another's files and its next
 H5Fcreate fails: 2 of 18 such runs failed here, three at a time. spall gives each singleton a
-session directory of its own (parallel/Mpi.hpp, preparePrivateSingleton). Also: no spall-mpi-*
+session directory of its own (parallel/Mpi.hpp, MpiSession). Also: no spall-mpi-*
 directory is left behind.
 Three runs at a time, eight rounds: every run writes a snapshot per step, so each of the other
 runs' finishes falls while it is writing.

@@ -6,7 +6,7 @@
 
 #include "spall/parallel/Mpi.hpp"
 
-#include <string>
+#include <memory>
 
 namespace {
 
@@ -15,24 +15,12 @@ public:
   void SetUp() override {
     int initialized = 0;
     MPI_Initialized(&initialized);
-    if (!initialized) {
-      sessionBase_ = spall::parallel::preparePrivateSingleton();
-      int provided = 0;
-      MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
-      spall::parallel::singletonStarted(sessionBase_);
-      owner_ = true;
-    }
+    if (!initialized) session_ = std::make_unique<spall::parallel::MpiSession>();
   }
-  void TearDown() override {
-    int finalized = 0;
-    MPI_Finalized(&finalized);
-    if (owner_ && !finalized) MPI_Finalize();
-    if (owner_) spall::parallel::removeSessionBase(sessionBase_);
-  }
+  void TearDown() override { session_.reset(); }
 
 private:
-  bool owner_ = false;
-  std::string sessionBase_;
+  std::unique_ptr<spall::parallel::MpiSession> session_; // when this environment started MPI
 };
 
 // gtest takes ownership; registration before main() is allowed.

@@ -76,23 +76,19 @@ template <class Error, class F> void onRoot(MPI_Comm comm, F&& f) {
   throw Error(message);
 }
 
-// Before MPI_Init, in a process no launcher started (a singleton: `spall check`, a one-rank run,
-// a unit test): Open MPI is told the process never spawns, so it starts no support daemon for it
-// (0.35 -> 0.24 s for `spall info`), and is given a session directory of its own, made here
-// under $TMPDIR. Isolated singletons all name their session directory alike (jf.0/1), so with a
-// shared one each one's MPI_Finalize deletes the others' MPI-IO scratch files and their snapshot
-// writes fail (tests/cli/test_concurrent_runs.py). Returns the directory ("" when nothing was
-// set: under mpirun or srun, or where the user set either variable); removeSessionBase() after
-// MPI_Finalize removes it. After MPI_Init, singletonStarted() takes the two variables out of the
-// environment again, so that a process this one starts (a test's `spall run`) makes its own.
-std::string preparePrivateSingleton();
-void singletonStarted(const std::string& dir);
-void removeSessionBase(const std::string& dir);
-
-// RAII MPI_Init_thread / MPI_Finalize for the executable (preparePrivateSingleton first).
+// RAII MPI_Init_thread / MPI_Finalize for the executable and the unit tests. In a process no
+// launcher started (a singleton: `spall check`, a one-rank run, a unit test), Open MPI is first
+// told the process never spawns, so it starts no support daemon for it (0.35 -> 0.24 s for
+// `spall info`), and is given a session directory of its own, made under $TMPDIR and removed
+// after MPI_Finalize. Isolated singletons all name their session directory alike (jf.0/1), so
+// with a shared one each one's MPI_Finalize deletes the others' MPI-IO scratch files and their
+// snapshot writes fail (tests/cli/test_concurrent_runs.py). Nothing is set under mpirun or
+// srun, or where the user set OMPI_MCA_ess_singleton_isolated or OMPI_MCA_orte_tmpdir_base;
+// both are unset again after MPI_Init, so that a process this one starts makes its own.
 class MpiSession {
 public:
   MpiSession(int& argc, char**& argv);
+  MpiSession(); // without the command line (the unit tests)
   ~MpiSession();
   MpiSession(const MpiSession&) = delete;
   MpiSession& operator=(const MpiSession&) = delete;
