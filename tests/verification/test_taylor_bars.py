@@ -6,11 +6,12 @@ snapshot. Runs on 2 ranks.
 
 Fast (default), at half the shipped resolution (about 5 particles across the radius, where the
 smoothing scale, 1.5 spacings, is a third of the radius):
-- 42CrMo4 steel (Pantale et al., DynELA and Abaqus, the same Johnson-Cook model: 26.55 mm,
-  11.19 mm), 3.8k particles: length within 4%, face within the issue's 4% already here.
-  Measured -2.7% and -3.0%; -2.0% and -0.7% at 7 across (decks/topics/taylor-bars.md). Before
-  the wall's hold replaced its images' viscosity the face came out -7.3% here, and 16% narrow
-  with the plain viscosity.
+- (long only since 2026-12-02, to keep CI under 15 minutes: the 4340 bar below guards the same
+  Johnson-Cook bar against the wall in 3D, with a profile besides) 42CrMo4 steel (Pantale et
+  al., DynELA and Abaqus, the same Johnson-Cook model: 26.55 mm, 11.19 mm), 3.8k particles at
+  half resolution: length and face within 4%. Measured -2.7% and -3.0%; -2.0% and -0.7% at 7
+  across (decks/topics/taylor-bars.md). Before the wall's hold replaced its images' viscosity
+  the face came out -7.3% there, and 16% narrow with the plain viscosity.
 - 4340 steel (Johnson & Cook's 1983 test, 22.48 mm, 11.1 mm, and its profile), 2.4k particles:
   length within 3%, face within 4%, profile RMS within 3% of the radius. Measured -0.95%, -3.4%
   and 1.9%; the rz bar gives -3.7% from 9.6 to 38 rings across the radius (converged), so the
@@ -54,8 +55,7 @@ loader.exec_module(taylor)
 CASES = [("taylor_bar_steel_3d.toml", 1.0, 0.02, 0.04, None),
          ("taylor_bar_4340_3d.toml", 1.0, 0.02, 0.04, 0.03),
          ("taylor_bar_za_3d.toml", 0.7, 0.03, 0.05, 0.04)] if LONG else \
-        [("taylor_bar_steel_3d.toml", 0.5, 0.04, 0.04, None),
-         ("taylor_bar_4340_3d.toml", 0.5, 0.03, 0.04, 0.03),
+        [("taylor_bar_4340_3d.toml", 0.5, 0.03, 0.04, 0.03),
          ("taylor_bar_za_rz.toml", 1.0, 0.04, 0.04, 0.04)]
 
 failures = []
