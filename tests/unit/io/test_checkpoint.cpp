@@ -3,6 +3,7 @@
 // code), non-checkpointed columns stay out, the bookkeeping round-trips, and damaged or
 // mismatched files are refused with a CheckpointError naming the file, never a crash.
 #include "spall/io/Checkpoint.hpp"
+#include "unit/MpiForTests.hpp"
 
 #include <gtest/gtest.h>
 #include <hdf5.h>
@@ -62,6 +63,7 @@ io::CheckpointState someState() {
 } // namespace
 
 TEST(Checkpoint, RoundTripsEveryCheckpointedColumnBitForBit) {
+  fixtures::requireMpi();
   const fs::path dir = scratch("roundtrip");
   const std::string path = (dir / "ckpt_000012.h5").string();
   Synthetic a(257);
@@ -115,6 +117,7 @@ TEST(Checkpoint, ChecksumIsIndependentOfHowRowsAreSplit) {
 }
 
 TEST(Checkpoint, DamagedFilesAreRefusedNamingTheFile) {
+  fixtures::requireMpi();
   const fs::path dir = scratch("damaged");
   const std::string path = (dir / "good.h5").string();
   Synthetic a(500);
@@ -166,6 +169,7 @@ TEST(Checkpoint, DamagedFilesAreRefusedNamingTheFile) {
 }
 
 TEST(Checkpoint, FieldsMustMatchOneForOne) {
+  fixtures::requireMpi();
   const fs::path dir = scratch("fields");
   const std::string path = (dir / "c.h5").string();
   Synthetic a(10);

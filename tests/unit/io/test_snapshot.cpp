@@ -4,6 +4,7 @@
 #include "spall/core/Error.hpp"
 #include "spall/io/Snapshot.hpp"
 #include "spall/io/Xdmf.hpp"
+#include "unit/MpiForTests.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -85,6 +86,7 @@ struct Sample {
 } // namespace
 
 TEST(Snapshot, RoundTripsEveryFieldExactly) {
+  fixtures::requireMpi();
   const fs::path dir = scratchDir("roundtrip");
   const std::string path = (dir / "snap_000007.h5").string();
   const Sample s;
@@ -113,6 +115,7 @@ TEST(Snapshot, RoundTripsEveryFieldExactly) {
 }
 
 TEST(Snapshot, EmptySnapshotIsValid) {
+  fixtures::requireMpi();
   const fs::path dir = scratchDir("empty");
   const std::string path = (dir / "snap_000000.h5").string();
   const FieldInfo pos{"position", ScalarType::F64, {3}};
@@ -126,6 +129,7 @@ TEST(Snapshot, EmptySnapshotIsValid) {
 }
 
 TEST(Snapshot, FailureIsARunErrorWithoutHdf5Noise) {
+  fixtures::requireMpi();
   const Sample s;
   const auto fields = s.fields();
   const std::string path = "/nonexistent_spall_dir/snap_000001.h5";
