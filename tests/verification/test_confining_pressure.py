@@ -3,7 +3,8 @@
 ([damping]): the pre-stressing stage of a confined shot (Austin 2013, Sec. 5.2, Table 5.1),
 against the elastic equilibrium it must reach.
 
-1. rz, decks/sandstone_confinement_rz.toml (cap-model sandstone, 6.895 MPa ramped over 50 us,
+1. rz, decks/sandstone_confinement_rz.toml (SPH at half its resolution unless `long`;
+   cap-model sandstone, 6.895 MPa ramped over 50 us,
    damped until 250 us, free to 400 us): every ring's pressure and its stresses sigma_rr, sigma_zz,
    sigma_tt within 5% of the load (Table 5.1's criterion; measured 0.01%) at 250 us and at
    400 us, after the damping ended. The density has risen by P/K (within 1%: the elastic
@@ -28,7 +29,7 @@ against the elastic equilibrium it must reach.
 5. The same run on 1 and 3 ranks, and stopped and restarted on 2 ranks while the load ramps and
    the damping acts: the particles bit for bit.
 
-usage: test_confining_pressure.py SPALL SOURCE_DIR
+usage: test_confining_pressure.py SPALL SOURCE_DIR [long]
 """
 import json
 import math
@@ -41,6 +42,7 @@ import numpy as np
 from spalltest import Checks, rows, snapshot
 
 SRC = Path(sys.argv[2])
+LONG = len(sys.argv) > 3 and sys.argv[3] == "long"
 DECK = SRC / "decks/sandstone_confinement_rz.toml"
 P_DECK = 6.895e6
 K, G = 15.7e9, 15.0e9  # the sandstone's elastic moduli (the deck's cap model)
@@ -58,7 +60,11 @@ def worst(values, target):
 
 def rz_cylinder(tmp, m):
     out = tmp / f"rz{m.tag}"
-    if not run(DECK, out, *m.sets):
+    # SPH: the fast suite at half the deck's resolution (20 s of CI at the full one), `long` as
+    # shipped; measured at half: 1.7e-5 of the load, the books 6.9e-8. MPM stays as shipped (6 s):
+    # its books' error grows with the cell (3.2e-3 at half, over its 3e-3).
+    coarse = [] if LONG or m.sets else ["run.resolution=0.5"]
+    if not run(DECK, out, *m.sets, *coarse):
         return
     for t in (250e-6, 400e-6):
         s = snapshot(out, t)

@@ -22,7 +22,9 @@ With `long`: the shipped resolutions (10 across the radius; ~17 min and ~10 min 
 (measured: 42CrMo4 -1.6%, +0.3%; 4340 -0.74%, -3.97%, 1.9%). The OFHC copper bar with Johnson-Cook
 (taylor_bar_3d) is measured, not asserted: its length stays about 5% long at every resolution
 (decks/README.md). With Zerilli-Armstrong:
-- fast, taylor_bar_za_rz (axisymmetric, 15 rings across the radius, 1.5k particles, 44 s on 1 core):
+- long (fast until 2026-12-02; the model itself is held to its closed forms in
+  tests/unit/materials/test_strength.cpp, and the fast suite's 4340 bar guards the Taylor
+  impact), taylor_bar_za_rz (axisymmetric, 15 rings across the radius, 1.5k particles, 44 s on 1 core):
   length within 4%, face within 4%, profile RMS within 4%. Measured +3.3%, -2.6%, 2.6% (at 1.5x
   the resolution +3.7%, -2.2%, 2.55%). The rz bar ends 1-2% longer than the 3D one for both
   models. The same deck with Johnson-Cook (taylor_bar_rz) gives +6.4%, +5.0% and 7.5%: the
@@ -54,9 +56,9 @@ loader.exec_module(taylor)
 # deck, resolution, length tolerance, diameter tolerance, profile RMS tolerance (None: no profile)
 CASES = [("taylor_bar_steel_3d.toml", 1.0, 0.02, 0.04, None),
          ("taylor_bar_4340_3d.toml", 1.0, 0.02, 0.04, 0.03),
-         ("taylor_bar_za_3d.toml", 0.7, 0.03, 0.05, 0.04)] if LONG else \
-        [("taylor_bar_4340_3d.toml", 0.5, 0.03, 0.04, 0.03),
-         ("taylor_bar_za_rz.toml", 1.0, 0.04, 0.04, 0.04)]
+         ("taylor_bar_za_3d.toml", 0.7, 0.03, 0.05, 0.04),
+         ("taylor_bar_za_rz.toml", 1.0, 0.04, 0.04, 0.04)] if LONG else \
+        [("taylor_bar_4340_3d.toml", 0.5, 0.03, 0.04, 0.03)]
 
 failures = []
 with tempfile.TemporaryDirectory() as tmp:
