@@ -324,11 +324,10 @@ double fillBody(const Deck& deck, const std::vector<materials::Material>& materi
         },
         model.eos);
     if (!ep) {
-      throw DeckError(body.where,
-                      fmt::format("body '{}': initial_pressure cannot be set with the "
-                                  "'{}' EOS of material '{}' (its pressure does not "
-                                  "depend on the internal energy); use initial_density",
-                                  body.name, kEosNames(material.eos.type), material.name));
+      throw DeckError(body.where, fmt::format("body '{}': initial_pressure cannot be set with the "
+                                              "'{}' EOS of material '{}' (its pressure does not "
+                                              "depend on the internal energy); use initial_density",
+                                              body.name, eosTypeName(material.eos), material.name));
     }
     e0 = *ep;
   }

@@ -19,106 +19,39 @@
 #include <fmt/format.h>
 #include <limits>
 #include <stdexcept>
+#include <type_traits>
 
 namespace spall::app {
 
 namespace {
 
-materials::Eos buildEos(const MaterialConfig& m) {
-  const auto& c = m.eos;
-  switch (c.type) {
-  case EosType::IdealGas:
-    return materials::IdealGas{c.gamma};
-  case EosType::Linear:
-    return materials::LinearEos{m.density, c.bulk_modulus};
-  case EosType::MieGruneisen:
-    return materials::MieGruneisen{m.density, c.c0, c.s, c.gamma0};
-  case EosType::Tillotson:
-    return materials::Tillotson{m.density, c.a,    c.b,  c.A,    c.B,
-                                c.alpha,   c.beta, c.e0, c.e_iv, c.e_cv};
-  }
-  throw std::logic_error("internal: an eos type without a model");
-}
-
+// The models the deck reader made (io/keys/): a J2 strength model or a damage model goes to the
+// materials' update as it is; no strength, the cap model (its own module) and no damage give none.
 std::optional<materials::Strength> buildStrength(const StrengthConfig& c) {
-  // Designated initializers: the deck's names meet the model's, and a swapped pair cannot compile
-  // silently into the other's place.
-  switch (c.type) {
-  case StrengthType::None:
-  case StrengthType::Cap: // its own module (buildCap)
-    return std::nullopt;
-  case StrengthType::Elastic:
-    return materials::Elastic{c.shear_modulus};
-  case StrengthType::VonMises:
-    return materials::VonMises{c.shear_modulus, c.yield_stress};
-  case StrengthType::JohnsonCook:
-    return materials::JohnsonCook{.G = c.shear_modulus,
-                                  .A = c.A,
-                                  .B = c.B,
-                                  .n = c.n,
-                                  .C = c.C,
-                                  .m = c.m,
-                                  .rate0 = c.reference_strain_rate,
-                                  .Troom = c.room_temperature,
-                                  .Tmelt = c.melt_temperature,
-                                  .cp = c.specific_heat,
-                                  .chi = c.taylor_quinney,
-                                  .plasticRate = c.strain_rate == StrainRate::Plastic};
-  case StrengthType::ZerilliArmstrong:
-    return materials::ZerilliArmstrong{.G = c.shear_modulus,
-                                       .C0 = c.C0,
-                                       .C1 = c.C1,
-                                       .C2 = c.C2,
-                                       .C3 = c.C3,
-                                       .C4 = c.C4,
-                                       .C5 = c.C5,
-                                       .n = c.n,
-                                       .rate0 = c.reference_strain_rate,
-                                       .Troom = c.room_temperature,
-                                       .cp = c.specific_heat,
-                                       .chi = c.taylor_quinney};
-  }
-  throw std::logic_error("internal: a strength type without a model");
+  return std::visit(
+      [](const auto& m) -> std::optional<materials::Strength> {
+        if constexpr (std::is_constructible_v<materials::Strength, decltype(m)>)
+          return materials::Strength(m);
+        else
+          return std::nullopt;
+      },
+      c.model);
 }
 
 std::optional<materials::Damage> buildDamage(const DamageConfig& c) {
-  switch (c.type) {
-  case DamageType::None:
-    return std::nullopt;
-  case DamageType::GradyKipp:
-    return materials::GradyKipp{c.weibull_k, c.weibull_m, c.crack_speed,
-                                c.mode == DamageMode::Tensor};
-  case DamageType::JohnsonCook:
-    return materials::JohnsonCookDamage{c.D1,
-                                        c.D2,
-                                        c.D3,
-                                        c.D4,
-                                        c.D5,
-                                        c.reference_strain_rate,
-                                        c.room_temperature,
-                                        c.melt_temperature};
-  }
-  throw std::logic_error("internal: a damage type without a model");
+  return std::visit(
+      [](const auto& m) -> std::optional<materials::Damage> {
+        if constexpr (std::is_constructible_v<materials::Damage, decltype(m)>)
+          return materials::Damage(m);
+        else
+          return std::nullopt;
+      },
+      c.model);
 }
 
 std::optional<materials::CapPlasticity> buildCap(const MaterialConfig& m) {
-  const StrengthConfig& c = m.strength;
-  if (c.type != StrengthType::Cap) return std::nullopt;
-  materials::CapPlasticity cap;
-  cap.rho0 = m.density;
-  cap.K = c.bulk_modulus;
-  cap.G = c.shear_modulus;
-  cap.peakI1 = c.peak_i1;
-  cap.fSlope = c.f_slope;
-  cap.capRatio = c.cap_ratio;
-  cap.P0 = c.crush_p0;
-  cap.P1 = c.crush_p1;
-  cap.P3 = c.crush_p3;
-  cap.hardening = c.hardening;
-  cap.dilatancy = c.dilatancy;
-  cap.Kf = c.fluid_bulk_modulus;
-  cap.pf0 = c.initial_pore_pressure;
-  return cap;
+  if (const auto* cap = m.strength.cap()) return *cap;
+  return std::nullopt;
 }
 
 std::optional<materials::PAlpha> buildPorosity(const MaterialConfig& mc,
@@ -175,8 +108,7 @@ std::vector<materials::Material> buildMaterials(const Deck& deck) {
   std::vector<materials::Material> out;
   for (const auto& m : deck.materials) {
     // A cap material has no eos (DeckMaterial.cpp): its placeholder is never evaluated.
-    const materials::Eos eos =
-        m.strength.type == StrengthType::Cap ? materials::Eos{} : buildEos(m);
+    const materials::Eos eos = m.strength.cap() ? materials::Eos{} : m.eos.model;
     out.push_back({eos, buildStrength(m.strength), buildDamage(m.damage), m.erosion, buildCap(m),
                    buildPorosity(m, eos), m.eos.min_pressure});
   }
@@ -186,9 +118,8 @@ std::vector<materials::Material> buildMaterials(const Deck& deck) {
 template <int Dim>
 std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck) {
   const auto& solver = deck.solver;
-  const bool solids = std::any_of(deck.materials.begin(), deck.materials.end(), [](const auto& m) {
-    return m.strength.type != StrengthType::None;
-  });
+  const bool solids = std::any_of(deck.materials.begin(), deck.materials.end(),
+                                  [](const auto& m) { return !m.strength.none(); });
   if (!solids && (solver.artificial_stress.enabled || solver.artificial_viscosity.reconstruct ||
                   solver.velocity_gradient != VelocityGradient::Sph))
     throw DeckError(solver.where,
@@ -217,14 +148,14 @@ std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck
   std::vector<std::optional<materials::GradyKipp>> flaws;
   bool damage = false;
   for (const auto& m : deck.materials) {
-    damage = damage || m.damage.type != DamageType::None;
+    damage = damage || !m.damage.none();
     const auto model = buildDamage(m.damage);
     const auto* g = model ? std::get_if<materials::GradyKipp>(&*model) : nullptr;
     flaws.push_back(g ? std::optional<materials::GradyKipp>(*g) : std::nullopt);
   }
   if (damage) list.push_back(std::make_unique<methods::Damage<Dim>>(flaws, deck.run.seed));
   if (std::any_of(deck.materials.begin(), deck.materials.end(),
-                  [](const auto& m) { return m.strength.type == StrengthType::Cap; }))
+                  [](const auto& m) { return m.strength.cap() != nullptr; }))
     list.push_back(std::make_unique<methods::CapPlasticity<Dim>>());
   if (std::any_of(deck.materials.begin(), deck.materials.end(),
                   [](const auto& m) { return m.porosity.type != PorosityType::None; })) {

@@ -79,13 +79,20 @@ Simulation<Dim>::Simulation(const Deck& deck, const parallel::MpiContext& mpi)
         "{}:{}: solver.{} act on SPH's pair loop and do nothing with method \"mpm\" (its "
         "shock viscosity: solver.mpm.viscosity; decks/topics/mpm.md)",
         deck_.solver.where.file, deck_.solver.where.line, fmt::join(keys, ", solver.")));
+  // ASPH's keys in an SPH deck: SPH's smoothing lengths are scalars.
+  if (const auto& keys = deck_.solver.asphOnlyKeys; !keys.empty())
+    deferredWarnings_.push_back(fmt::format(
+        "{}:{}: solver.{} act on ASPH's smoothing tensors and do nothing with method \"sph\" "
+        "(set method = \"asph\")",
+        deck_.solver.where.file, deck_.solver.where.line, fmt::join(keys, ", solver.")));
   // With the plain SPH velocity gradient a solid's strain rate under-reads where the support is
   // cut, and a confined body settles with stresses off the load (decks/README.md).
   for (const auto& b : deck_.boundaries)
     if (b.type == BoundaryType::Pressure &&
-        deck_.materials[static_cast<std::size_t>(
-                            deck_.bodies[static_cast<std::size_t>(b.bodyIndex)].material_index)]
-                .strength.type != StrengthType::None &&
+        !deck_
+             .materials[static_cast<std::size_t>(
+                 deck_.bodies[static_cast<std::size_t>(b.bodyIndex)].material_index)]
+             .strength.none() &&
         deck_.solver.velocity_gradient != VelocityGradient::Corrected)
       deferredWarnings_.push_back(fmt::format(
           "{}:{}: body '{}' has strength and a pressure boundary, but solver.velocity_gradient "

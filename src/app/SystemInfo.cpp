@@ -1,5 +1,6 @@
 #include "spall/app/SystemInfo.hpp"
 #include "spall/io/Deck.hpp"
+#include "spall/io/DeckKeys.hpp"
 
 #include <Eigen/Core>
 #include <fmt/format.h>
@@ -45,12 +46,21 @@ std::size_t availableMemoryBytes() {
 namespace {
 
 // "a, b, c" of an enum's names, without `skip` (a name that is no model, e.g. "none").
-template <class E, std::size_t N>
-std::string names(const NameTable<E, N>& table, std::string_view skip = "none") {
+std::string joinNames(const std::vector<std::string_view>& all, std::string_view skip) {
   std::string out;
-  for (auto n : table.names())
+  for (auto n : all)
     if (n != skip) out += (out.empty() ? "" : ", ") + std::string(n);
   return out;
+}
+
+template <class E, std::size_t N>
+std::string names(const NameTable<E, N>& table, std::string_view skip = "none") {
+  return joinNames(table.names(), skip);
+}
+
+// The types of a typed table, from its key tables (io/keys/).
+std::string types(std::string_view path) {
+  return joinNames(io::deckTypeNames(path), "none");
 }
 
 // What this build runs, from the name tables the deck reader parses with: a new model is
@@ -63,8 +73,9 @@ std::string featureList() {
       "spall element, spall history, spall keys; bodies that join at insert_time, [[jet]] "
       "files",
       names(kSolverMethodNames), names(kMpmShapeNames), names(kMpmTransferNames),
-      names(kKernelNames), names(kEosNames), names(kPorosityNames), names(kStrengthNames),
-      names(kDamageNames), names(materials::kErosionNames), names(kBoundaryTypeNames));
+      names(kKernelNames), types("material.eos"), types("material.porosity"),
+      types("material.strength"), types("material.damage"), names(materials::kErosionNames),
+      names(kBoundaryTypeNames));
 }
 
 // `text` in lines of at most 100 characters, the first after `head`, the others indented as far.

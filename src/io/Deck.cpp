@@ -142,9 +142,8 @@ void DeckReader::read(Deck& deck) {
   // tension pair up and tear (the rubber rings of decks/topics/safe-defaults.md). So is the
   // linearly reconstructed viscosity: the plain one acts in plastic flow as a shear viscosity
   // comparable to the flow stress (a Taylor bar's face comes out 10% narrow; decks/README.md).
-  const bool solids =
-      std::any_of(deck.materials.begin(), deck.materials.end(),
-                  [](const MaterialConfig& m) { return m.strength.type != StrengthType::None; });
+  const bool solids = std::any_of(deck.materials.begin(), deck.materials.end(),
+                                  [](const MaterialConfig& m) { return !m.strength.none(); });
   if (!deck.solver.artificial_stress.given) deck.solver.artificial_stress.enabled = solids;
   if (!deck.solver.artificial_viscosity.reconstructGiven)
     deck.solver.artificial_viscosity.reconstruct = solids;

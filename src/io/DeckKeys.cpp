@@ -20,6 +20,13 @@ const std::vector<KeySection>& deckKeySections() {
   return all;
 }
 
+std::vector<std::string_view> deckTypeNames(std::string_view path) {
+  std::vector<std::string_view> out;
+  for (const auto& s : deckKeySections())
+    if (s.path == path && !s.type.empty()) out.push_back(s.type);
+  return out;
+}
+
 namespace {
 
 std::string dotted(const KeySection& section, const KeySpec& key) {

@@ -14,6 +14,9 @@ void readSolver(const TableReader& r, SolverConfig& s) {
           "velocity_gradient", "h_min", "h_max", "h_min_ratio", "h_max_ratio", "max_aspect_ratio",
           "shape_interval", "neighbor_skin"})
       if (r.has(key)) s.sphOnlyKeys.push_back(key);
+  if (s.method == SolverMethod::Sph)
+    for (const char* key : {"max_aspect_ratio", "shape_interval"})
+      if (r.has(key)) s.asphOnlyKeys.push_back(key);
   if (const auto* t = r.subtable("mpm")) {
     if (s.method != SolverMethod::Mpm)
       r.fail("mpm", r.quoted("mpm") +
@@ -85,7 +88,9 @@ void readSolver(const TableReader& r, SolverConfig& s) {
     const TableReader as = TableReader(*t, r.context().child("artificial_stress"), r.deckPath());
     as.allowOnly(*schemaKeys("solver.artificial_stress"));
     auto& c = s.artificial_stress;
-    c.given = true;
+    // Only epsilon turns the stress on or off: an empty table, or one with only the exponent,
+    // leaves the default (on with solids, off without: io/Deck.cpp).
+    c.given = as.has("epsilon");
     c.epsilon = as.number("epsilon").value_or(c.epsilon);
     as.check(c.epsilon >= 0.0 && c.epsilon <= 1.0, "epsilon", "in [0, 1] (0: off)", c.epsilon);
     c.enabled = c.epsilon > 0.0;

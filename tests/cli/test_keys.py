@@ -12,8 +12,9 @@
    that is not the one the code uses changes at least one bit of some field (or the run fails),
    where the key acts within those steps: a wrong artificial_stress.epsilon is caught, a wrong
    h_max_ratio or crack_speed (they act once h has grown, or a crack has started) is not.
-4. The bounds are the reader's: every numeric key whose table says "> 0" or ">= 0" is refused
-   by `spall check` (exit 2, naming the key) at -1, and "> 0" ones at 0 as well.
+4. The bounds are the reader's: every numeric key whose table gives a numeric bound ("> 0",
+   ">= 1", "<= 0", "[0, 1]", "(0, 1]") is refused by `spall check` (exit 2, naming the key) just
+   outside it, and on it where it is open.
 Each key is checked once, on the first deck below that holds its table (and its type). A key
 whose bounds say "not with OTHER" is left out of 3. where the table holds OTHER.
 
@@ -143,6 +144,24 @@ def runs_same(deck_path, sets, tmp, tag):
     return None if c.returncode == 0 else c.stdout.strip().splitlines()[-1]
 
 
+NUMBER = r"(-?[0-9.]+(?:e-?[0-9]+)?)"
+
+
+def outside_values(bound):
+    """Values just outside a numeric bound ("> 0", ">= 1", "<= 0", "[0, 1]", "(0, 1]"), on it
+    where it is open; [] for a bound by other keys or in words."""
+    fmt = lambda x: repr(float(x))
+    if m := re.fullmatch(r"(>=|>|<=|<) " + NUMBER, bound):
+        op, a = m.group(1), float(m.group(2))
+        return {">": [fmt(a - 1), fmt(a)], ">=": [fmt(a - 1)], "<": [fmt(a + 1), fmt(a)],
+                "<=": [fmt(a + 1)]}[op]
+    if m := re.fullmatch(r"([\[(])" + NUMBER + ", " + NUMBER + r"([\])])", bound):
+        lo, a, b, hi = m.group(1), float(m.group(2)), float(m.group(3)), m.group(4)
+        return ([fmt(a - 1)] + ([fmt(a)] if lo == "(" else []) + [fmt(b + 1)]
+                + ([fmt(b)] if hi == ")" else []))
+    return []
+
+
 # 3. and 4., deck by deck.
 defaults_checked = bounds_checked = 0
 done_default, done_bounds = set(), set()  # (section, type, key) checked already
@@ -165,10 +184,10 @@ for name in DECKS:
                         and not excluded and id_ not in done_default):
                     done_default.add(id_)
                     pending.append(f"{dotted}={default}")
-                if (numeric_bound in ("> 0", ">= 0") and vtype in ("float", "integer")
-                        and id_ not in done_bounds):
+                outside = outside_values(numeric_bound)
+                if outside and vtype in ("float", "integer") and id_ not in done_bounds:
                     done_bounds.add(id_)
-                    for v in (["-1", "0"] if numeric_bound == "> 0" else ["-1"]):
+                    for v in outside:
                         r = spall("check", str(deck_path), "--set", f"{dotted}={v}")
                         bounds_checked += 1
                         if not (r.returncode == 2 and key in r.stderr):

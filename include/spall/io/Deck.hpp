@@ -4,7 +4,11 @@
 // overlapping bodies) still report FILE:LINE:COLUMN.
 #include "spall/core/Error.hpp"
 #include "spall/core/NameTable.hpp"
+#include "spall/materials/CapPlasticity.hpp"
+#include "spall/materials/Damage.hpp"
+#include "spall/materials/Eos.hpp"
 #include "spall/materials/Erosion.hpp"
+#include "spall/materials/Strength.hpp"
 #include "spall/solvers/Config.hpp"
 
 #include <array>
@@ -12,6 +16,9 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
 namespace spall {
@@ -41,89 +48,85 @@ struct DecompositionConfig {
   bool reproducible = true;         // neighbor sums in a rank-count-independent order
 };
 
-enum class EosType { IdealGas, Linear, MieGruneisen, Tillotson };
-inline constexpr NameTable<EosType, 4> kEosNames{{{{EosType::IdealGas, "ideal_gas"},
-                                                   {EosType::Linear, "linear"},
-                                                   {EosType::MieGruneisen, "mie_gruneisen"},
-                                                   {EosType::Tillotson, "tillotson"}}}};
+// A typed table's models as one variant: the alternatives of several variants, in order.
+template <class... V> struct VariantCat;
+template <class... A, class... B, class... C>
+struct VariantCat<std::variant<A...>, std::variant<B...>, std::variant<C...>> {
+  using type = std::variant<A..., B..., C...>;
+};
 
+// eos = {type = ...}: a model of materials/Eos.hpp, its keys in io/keys/EosKeys.cpp; rho0 is the
+// material's density.
 struct EosConfig {
-  EosType type = EosType::IdealGas;       // required in a deck (none for a cap material)
-  double gamma = 0.0;                     // ideal_gas
-  double bulk_modulus = 0.0;              // linear
-  double c0 = 0.0, s = 0.0, gamma0 = 0.0; // mie_gruneisen (Lam et al. 2001, Eqs. 4-6)
-  // tillotson (Tillotson 1962; materials/Eos.hpp)
-  double a = 0.0, b = 0.0, A = 0.0, B = 0.0, alpha = 0.0, beta = 0.0;
-  double e0 = 0.0, e_iv = 0.0, e_cv = 0.0;
-  // The tension limit (Pa, <= 0): the pressure never falls below it (linear, mie_gruneisen,
-  // tillotson); none by default.
+  materials::Eos model;
+  // The tension limit (Pa, <= 0): the pressure never falls below it (all types but ideal_gas);
+  // none by default.
   double min_pressure = -std::numeric_limits<double>::infinity();
   SourceLocation where;
 };
 
-// strength = {type = ...} (docs/reference.md; materials/Strength.hpp for the models).
-enum class StrengthType { None, Elastic, VonMises, JohnsonCook, ZerilliArmstrong, Cap };
-inline constexpr NameTable<StrengthType, 6> kStrengthNames{
-    {{{StrengthType::None, "none"},
-      {StrengthType::Elastic, "elastic"},
-      {StrengthType::VonMises, "von_mises"},
-      {StrengthType::JohnsonCook, "johnson_cook"},
-      {StrengthType::ZerilliArmstrong, "zerilli_armstrong"},
-      {StrengthType::Cap, "cap"}}}};
-// The strain rate in Johnson-Cook's rate term: the plastic one or the total deviatoric one.
-enum class StrainRate { Plastic, Total };
-inline constexpr NameTable<StrainRate, 2> kStrainRateNames{
-    {{{StrainRate::Plastic, "plastic"}, {StrainRate::Total, "total"}}}};
+// strength = {type = ...}: none (a fluid), a J2 model of materials/Strength.hpp or the cap model
+// of materials/CapPlasticity.hpp; their keys in io/keys/StrengthKeys.cpp.
+struct NoStrength {};
+using StrengthModel = VariantCat<std::variant<NoStrength>, materials::Strength,
+                                 std::variant<materials::CapPlasticity>>::type;
 
 struct StrengthConfig {
-  StrengthType type = StrengthType::None;
-  double shear_modulus = 0.0, yield_stress = 0.0;
-  // cap (materials/CapPlasticity.hpp; docs/reference.md for the keys)
-  double bulk_modulus = 0.0, peak_i1 = 0.0, f_slope = 0.0, cap_ratio = 0.0;
-  double crush_p0 = 0.0, crush_p1 = 0.0, crush_p3 = 0.0;
-  bool hardening = true;
-  double dilatancy = 1.0, fluid_bulk_modulus = 0.0, initial_pore_pressure = 0.0;
-  // johnson_cook
-  double A = 0.0, B = 0.0, n = 1.0, C = 0.0, m = 1.0, reference_strain_rate = 1.0;
-  double room_temperature = 293.0, melt_temperature = 0.0, specific_heat = 0.0;
-  double taylor_quinney = 0.9;
-  StrainRate strain_rate = StrainRate::Plastic;
-  // zerilli_armstrong (with n, reference_strain_rate, room_temperature, specific_heat,
-  // taylor_quinney above)
-  double C0 = 0.0, C1 = 0.0, C2 = 0.0, C3 = 0.0, C4 = 0.0, C5 = 0.0;
-  // The models that carry a temperature (johnson_cook, zerilli_armstrong) start at
-  // room_temperature, the others at 0.
-  bool tracksTemperature() const {
-    return type == StrengthType::JohnsonCook || type == StrengthType::ZerilliArmstrong;
-  }
-  double initialTemperature() const { return tracksTemperature() ? room_temperature : 0.0; }
-  // The J2 models, which accumulate an equivalent plastic strain (what Johnson-Cook damage reads).
-  bool hasPlasticStrain() const { return type == StrengthType::VonMises || tracksTemperature(); }
+  StrengthModel model;
   SourceLocation where;
+
+  bool none() const { return std::holds_alternative<NoStrength>(model); }
+  const materials::CapPlasticity* cap() const {
+    return std::get_if<materials::CapPlasticity>(&model);
+  }
+  // The models that carry a temperature start at their room temperature, the others at 0.
+  bool tracksTemperature() const {
+    return std::visit(
+        [](const auto& m) {
+          return requires {
+            m.Troom;
+          };
+        },
+        model);
+  }
+  double initialTemperature() const {
+    return std::visit(
+        [](const auto& m) {
+          if constexpr (requires { m.Troom; })
+            return m.Troom;
+          else
+            return 0.0;
+        },
+        model);
+  }
+  // The J2 models that accumulate an equivalent plastic strain (what Johnson-Cook damage reads).
+  bool hasPlasticStrain() const {
+    return std::visit(
+        [](const auto& m) {
+          using T = std::decay_t<decltype(m)>;
+          if constexpr (requires { T::accumulatesPlasticStrain; })
+            return T::accumulatesPlasticStrain;
+          else
+            return false;
+        },
+        model);
+  }
 };
 
-// damage = {type = ...} (docs/reference.md; materials/Damage.hpp for the models).
-enum class DamageType { None, GradyKipp, JohnsonCook };
-inline constexpr NameTable<DamageType, 3> kDamageNames{
-    {{{DamageType::None, "none"},
-      {DamageType::GradyKipp, "grady_kipp"},
-      {DamageType::JohnsonCook, "johnson_cook"}}}};
-// Grady-Kipp damage as a scalar (Benz & Asphaug 1995) or a tensor (Owen 2010).
-enum class DamageMode { Scalar, Tensor };
-inline constexpr NameTable<DamageMode, 2> kDamageModeNames{
-    {{{DamageMode::Scalar, "scalar"}, {DamageMode::Tensor, "tensor"}}}};
+// damage = {type = ...}: a model of materials/Damage.hpp, its keys in io/keys/DamageKeys.cpp.
+struct NoDamage {};
+using DamageModel = VariantCat<std::variant<NoDamage>, materials::Damage, std::variant<>>::type;
 
 struct DamageConfig {
-  DamageType type = DamageType::None;
-  // grady_kipp: n(eps) = weibull_k eps^weibull_m flaws per m^3; crack speed over the longitudinal
-  // sound speed; mode "scalar" (Benz & Asphaug) or "tensor" (Owen 2010)
-  double weibull_k = 0.0, weibull_m = 0.0, crack_speed = 0.4;
-  DamageMode mode = DamageMode::Scalar;
-  // johnson_cook (Austin 2013, Eq. 6.5)
-  double D1 = 0.0, D2 = 0.0, D3 = 0.0, D4 = 0.0, D5 = 0.0, reference_strain_rate = 1.0;
-  double room_temperature = 293.0, melt_temperature = 0.0;
+  DamageModel model;
   SourceLocation where;
+  bool none() const { return std::holds_alternative<NoDamage>(model); }
 };
+
+// The names the deck gives the models (from their key tables, io/keys/).
+std::string_view eosTypeName(const EosConfig& c);
+std::string_view strengthTypeName(const StrengthConfig& c);
+std::string_view damageTypeName(const DamageConfig& c);
 
 // porosity = {type = "p_alpha", ...} (docs/reference.md; materials/Porosity.hpp for the model).
 enum class PorosityType { None, PAlpha };

@@ -18,12 +18,12 @@ struct KeySpec {
   std::string_view name;
   // As a deck writes the value: "float", "integer", "boolean", "string", "one of: a, b",
   // "float[dim]" (one per dimension), "float[n]", "table", "[[table]]", "strings", ...
-  std::string_view type;
+  std::string type;
   // The value used when the key is absent, as a deck would write it; "required" when it must be
   // given; "none" when absence means the feature is off; prose for a derived value.
-  std::string_view fallback;
-  std::string_view unit;   // SI; "" for a number without dimension or a non-number
-  std::string_view bounds; // what the reader accepts: "> 0", "[0, 1]", ""
+  std::string fallback;
+  std::string_view unit; // SI; "" for a number without dimension or a non-number
+  std::string bounds;    // what the reader accepts: "> 0", "[0, 1]", ""
   std::string_view meaning;
 };
 
@@ -37,6 +37,9 @@ struct KeySection {
 // All sections, in the order a reference reads them (top level, run, solver..., material...,
 // body..., boundary, output, ...).
 const std::vector<KeySection>& deckKeySections();
+
+// The types of a typed table ("material.eos", "body.shape", "boundary"), in table order.
+std::vector<std::string_view> deckTypeNames(std::string_view path);
 
 // One line per key whose dotted path (as a deck writes it: "solver.cfl", "material.strength.A")
 // begins with `prefix`, the path first; `markdown` gives the page decks/keys.md instead (all keys).

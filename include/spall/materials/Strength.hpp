@@ -136,6 +136,7 @@ struct Elastic {
 
 // strength = {type = "von_mises", shear_modulus, yield_stress}: perfect plasticity.
 struct VonMises {
+  static constexpr bool accumulatesPlasticStrain = true; // what Johnson-Cook damage reads
   double G = 0.0;
   double Y = 0.0;
   StrengthState update(const StrengthState& s, const Mat3& L, double dt, double /*rho*/) const {
@@ -162,6 +163,7 @@ struct VonMises {
 // total equivalent deviatoric strain rate of the step instead (the yield scaling of codes that
 // do so). At or above the melt temperature the material carries no shear (Austin 2013, Eq. 6.6).
 struct JohnsonCook {
+  static constexpr bool accumulatesPlasticStrain = true; // what Johnson-Cook damage reads
   double G = 0.0;
   double A = 0.0, B = 0.0, n = 1.0, C = 0.0, m = 1.0;
   double rate0 = 1.0;
@@ -234,6 +236,7 @@ struct JohnsonCook {
 // flow at 1e4/s flows at 4.7/s and 18% lower 10 us later) instead of dropping to a static curve
 // at once. Plastic heating as Johnson-Cook's.
 struct ZerilliArmstrong {
+  static constexpr bool accumulatesPlasticStrain = true; // what Johnson-Cook damage reads
   double G = 0.0;
   double C0 = 0.0, C1 = 0.0, C2 = 0.0, C3 = 0.0, C4 = 0.0, C5 = 0.0, n = 1.0;
   double rate0 = 1.0;

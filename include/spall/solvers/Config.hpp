@@ -159,6 +159,7 @@ struct SolverConfig {
   Geometry geometry = Geometry::Cartesian; // from run.geometry
   MpmConfig mpm;                           // solver.method = "mpm"
   std::vector<std::string> sphOnlyKeys;    // given with "mpm", where they do nothing
+  std::vector<std::string> asphOnlyKeys;   // given with "sph", where they do nothing
   SourceLocation where;
 };
 

@@ -86,10 +86,6 @@ std::string oneOf(const spall::NameTable<E, N>& names, std::string_view skip = {
 // enum tables must list the same names, in the same order.
 TEST(DeckKeys, ChoicesAreTheEnumsNames) {
   const std::map<std::string, std::string> want{
-      {"material.eos.type", oneOf(spall::kEosNames)},
-      {"material.strength.type", oneOf(spall::kStrengthNames)},
-      {"material.damage.type", oneOf(spall::kDamageNames, "none")},
-      {"material.porosity.type", oneOf(spall::kPorosityNames, "none")},
       {"material.erosion", oneOf(spall::materials::kErosionNames)},
       {"body.shape.type", oneOf(spall::kShapeNames)},
       {"body.lattice", oneOf(spall::kLatticeNames)},
@@ -113,18 +109,9 @@ TEST(DeckKeys, ChoicesAreTheEnumsNames) {
       if (want.count(path)) got[path] = std::string(k.type);
     }
   for (const auto& [path, type] : want) EXPECT_EQ(got[path], type) << path;
-  // Strain rate and damage mode are keys of one type each (johnson_cook, grady_kipp).
-  const KeySpec* rate = nullptr;
-  const KeySpec* mode = nullptr;
-  for (const auto& s : deckKeySections()) {
-    for (const auto& k : s.keys) {
-      if (s.path == "material.strength" && k.name == "strain_rate") rate = &k;
-      if (s.path == "material.damage" && k.name == "mode") mode = &k;
-    }
-  }
-  ASSERT_TRUE(rate && mode);
-  EXPECT_EQ(rate->type, oneOf(spall::kStrainRateNames));
-  EXPECT_EQ(mode->type, oneOf(spall::kDamageModeNames));
+  // The material models' types and choices (eos, strength, damage, porosity) are not enums:
+  // their key functions (src/io/keys/) both list and read them.
+  EXPECT_EQ(got.count("material.strength.type"), 0u);
 }
 
 } // namespace
