@@ -25,28 +25,26 @@ namespace spall::app {
 
 namespace {
 
-// The models the deck reader made (io/keys/): a J2 strength model or a damage model goes to the
-// materials' update as it is; no strength, the cap model (its own module) and no damage give none.
-std::optional<materials::Strength> buildStrength(const StrengthConfig& c) {
+// The model the deck reader made (io/keys/) as an alternative of `To`, the variant the materials'
+// update takes; none for a model `To` does not hold (no strength, the cap model, which is its
+// own module, no damage).
+template <class To, class From> std::optional<To> modelFor(const From& model) {
   return std::visit(
-      [](const auto& m) -> std::optional<materials::Strength> {
-        if constexpr (std::is_constructible_v<materials::Strength, decltype(m)>)
-          return materials::Strength(m);
+      [](const auto& m) -> std::optional<To> {
+        if constexpr (std::is_constructible_v<To, decltype(m)>)
+          return To(m);
         else
           return std::nullopt;
       },
-      c.model);
+      model);
+}
+
+std::optional<materials::Strength> buildStrength(const StrengthConfig& c) {
+  return modelFor<materials::Strength>(c.model);
 }
 
 std::optional<materials::Damage> buildDamage(const DamageConfig& c) {
-  return std::visit(
-      [](const auto& m) -> std::optional<materials::Damage> {
-        if constexpr (std::is_constructible_v<materials::Damage, decltype(m)>)
-          return materials::Damage(m);
-        else
-          return std::nullopt;
-      },
-      c.model);
+  return modelFor<materials::Damage>(c.model);
 }
 
 std::optional<materials::CapPlasticity> buildCap(const MaterialConfig& m) {

@@ -184,6 +184,14 @@ template <class Variant, class F> void forEachAlternative(F&& f) {
   (std::make_index_sequence<std::variant_size_v<Variant>>{});
 }
 
+// The section of one type T (its name, meaning and rows).
+template <class T, class Keys> KeySection sectionOf(std::string_view path, Keys keys) {
+  T p{};
+  Describe d(path);
+  keys(d, p);
+  return d.take();
+}
+
 // The sections of a typed table at `path` whose types are Variant's alternatives that have keys
 // (`keys(k, p)` calls the alternative's key function): first the table's own section, holding
 // `type`, then one per type.
@@ -195,10 +203,7 @@ std::vector<KeySection> describeTypes(std::string_view path, std::string_view me
   forEachAlternative<Variant>([&](auto t) {
     using T = typename decltype(t)::type;
     if constexpr (std::is_invocable_v<Keys, Describe&, T&>) {
-      T p{};
-      Describe d(path);
-      keys(d, p);
-      out.push_back(d.take());
+      out.push_back(sectionOf<T>(path, keys));
       names.push_back(out.back().type);
     }
   });
@@ -213,10 +218,7 @@ std::string_view typeName(const Variant& model, std::string_view path, Keys keys
       [&](const auto& m) -> std::string_view {
         using T = std::decay_t<decltype(m)>;
         if constexpr (std::is_invocable_v<Keys, Describe&, T&>) {
-          T p{};
-          Describe d(path);
-          keys(d, p);
-          return d.take().type;
+          return sectionOf<T>(path, keys).type;
         } else {
           return "none";
         }
@@ -233,10 +235,8 @@ Variant readType(const deck_detail::TableReader& r, std::string_view path, std::
   forEachAlternative<Variant>([&](auto t) {
     using T = typename decltype(t)::type;
     if constexpr (std::is_invocable_v<Keys, Describe&, T&>) {
+      if (model || sectionOf<T>(path, keys).type != type) return;
       T p{};
-      Describe d(path);
-      keys(d, p);
-      if (model || d.take().type != type) return;
       Read read(r);
       keys(read, p);
       model = p;
