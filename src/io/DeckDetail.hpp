@@ -129,8 +129,7 @@ private:
 int materialIndex(const TableReader& r, const std::string& name,
                   const std::vector<MaterialConfig>& materials);
 
-// The [solver] table (DeckSolver.cpp).
-void readSolver(const TableReader& r, SolverConfig& s);
+// What MPM does not take yet (DeckSolver.cpp).
 void checkMpmScope(const Deck& deck);
 // One [[material]] table (DeckMaterial.cpp).
 void readMaterial(const TableReader& r, MaterialConfig& m);
@@ -143,13 +142,8 @@ void readJet(const TableReader& r, std::size_t dimension, bool rz,
              const std::vector<MaterialConfig>& materials, std::vector<BodyConfig>& bodies,
              const std::string& name);
 
-// A body's shape (DeckShape.cpp); `rz`: run.geometry = "rz" (x the radius).
-void readShape(const TableReader& r, ShapeConfig& s, std::size_t dimension, bool rz);
 // The Euclidean length of a vector value.
 double norm(const std::vector<double>& v);
-
-// A body's velocity fields (DeckBodyVelocity.cpp): radial, cantilever, linear, sine.
-void readVelocityFields(const TableReader& r, std::size_t dimension, BodyConfig& b);
 
 // A [[boundary]] type = "pressure"'s `pressure` table (DeckPressureTable.cpp): (time s, Pa) rows,
 // times rising from >= 0.

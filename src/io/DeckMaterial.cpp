@@ -1,6 +1,6 @@
 // The [[material]] tables: equation of state, strength, damage and erosion (materials/).
 #include "DeckDetail.hpp"
-#include "keys/ModelKeys.hpp"
+#include "keys/Keys.hpp"
 
 #include <algorithm>
 
@@ -26,8 +26,7 @@ std::string typeOf(const TableReader& r, std::string_view path, const std::strin
 void readMaterial(const TableReader& r, MaterialConfig& m) {
   r.allowOnly(*schemaKeys("material"));
   m.where = r.where();
-  m.density = r.required(r.number("density"), "density");
-  r.check(m.density > 0.0, "density", "> 0", m.density);
+  keys::readMaterialKeys(r, m); // density, erosion
   if (const toml::table* t = r.subtable("strength")) {
     const TableReader s = child(r, *t, r.context().child("strength"));
     m.strength.where = s.where();
@@ -80,7 +79,6 @@ void readMaterial(const TableReader& r, MaterialConfig& m) {
     m.porosity.type = kPorosityNames.at(typeOf(p, "material.porosity", "porosity type"));
     keys::readPorosity(p, m.porosity);
   }
-  m.erosion = r.choice("erosion", materials::kErosionNames, materials::Erosion::None);
   if (m.erosion != materials::Erosion::None && m.damage.none())
     r.fail("erosion", "erosion says what a fully damaged particle carries, and " +
                           r.context().human + " has no damage");

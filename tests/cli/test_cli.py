@@ -112,7 +112,7 @@ def main():
             "min = [-0.001], max = [0.0]", "min = [0.0, 0.0], max = [0.001, 0.002]").replace(
             "velocity = [20.0]", "")
         t = rz.replace("dimension = 2", "dimension = 3")
-        deck_error("rz_dimension", t, 3, 12, ["geometry 'rz'", "run.dimension 2"], tmp)
+        deck_error("rz_dimension", t, 3, 12, ["'run.geometry' is 'rz'", "run.dimension 2"], tmp)
         t = replace_line(rz, "min = [0.0, 0.0]", "min = [-0.001, 0.0]")
         deck_error("rz_negative_r", t, line_of(t, "shape =")[0], 31, ["r = -0.001 < 0"], tmp)
         t = rz + '[[boundary]]\ntype = "periodic"\naxis = 0\nmin = 0.0\nmax = 0.001\n'
@@ -168,7 +168,7 @@ def main():
                    ["min_pressure", "<= 0"], tmp)
         t = ok + "[solver]\nh_min_ratio = 3.0\n"
         deck_error("h_min_ratio", t, line_of(t, "h_min_ratio =")[0], 15,
-                   ["h_min_ratio", "<= h_max_ratio (2)"], tmp)
+                   ["h_min_ratio", "[0, h_max_ratio], h_max_ratio = 2"], tmp)
         # MPM: GIMP's cells hold a point's box (a cell at least the spacing), checked at set-up
         # where the cell size is resolved; a periodic boundary is not available with MPM yet.
         t = ok + '[solver]\nmethod = "mpm"\nmpm = { cell_size = 1.0e-9 }\n'

@@ -75,6 +75,8 @@ inline constexpr NameTable<VelocityGradient, 2> kVelocityGradientNames{
 // run with the area mass m/(2 pi r), the axis is a mirror (images at -r), and the hoop terms
 // are added per particle (solvers/Axisymmetric.hpp).
 enum class Geometry { Cartesian, RZ };
+inline constexpr NameTable<Geometry, 2> kGeometryNames{
+    {{{Geometry::Cartesian, "cartesian"}, {Geometry::RZ, "rz"}}}};
 
 // How particles of different bodies interact.
 enum class Contact {

@@ -1,51 +1,142 @@
 // [[body]], its shapes and velocity fields, and [[jet]] (read in io/Deck.cpp,
 // io/DeckBodyVelocity.cpp and io/DeckJet.cpp).
-#include "spall/io/DeckKeys.hpp"
+#include "Keys.hpp"
+
+#include <cmath>
 
 namespace spall::io::keys {
 
+namespace {
+
+template <class K> void keysOf(K& k, BodyConfig& b) {
+  k.section("", "A body: a shape filled with particles of one material on a lattice.");
+  k.other("name", "string", "required", "", "unique, non-empty, no '.'",
+          "What boundaries, probes and diagnostics call it by; --set addresses body.NAME.");
+  k.text("material", b.material, required, "a [[material]]'s name",
+         "The material its particles are made of.");
+  k.table("shape", "required", "", "The region it fills: {type = ..., ...}.");
+  k.number("spacing", b.spacing, required, "m", above(0),
+           "The lattice spacing of its particles, divided by run.resolution.");
+  k.choice("lattice", b.lattice, kLatticeNames, keep,
+           "hexagonal: triangular in 2D, hexagonal close packing in 3D.");
+  k.vector("velocity", b.velocity, Depends{"zero"}, "m/s", "slower than light",
+           "Its uniform initial velocity, to which the velocity fields add.");
+  k.number("initial_density", b.initial_density,
+           Depends{"the material's density (over alpha0 if porous)"}, "kg/m^3", above(0),
+           "The starting density of its particles.");
+  k.number("initial_specific_energy", b.initial_specific_energy, Depends{"0.0"}, "J/kg", atLeast(0),
+           "The starting internal energy.");
+  k.note("initial_specific_energy", "not with initial_pressure");
+  k.number("initial_pressure", b.initial_pressure, off, "Pa", any(),
+           "The starting pressure: sets the energy from the eos (a cap material's density).");
+  // Both would set the internal energy; which one wins is not for the reader to guess.
+  k.require("initial_pressure", "not with initial_specific_energy",
+            !b.initial_pressure || !b.initial_specific_energy,
+            "cannot be combined with initial_specific_energy (both set the internal energy; give "
+            "one)");
+  k.number("jitter", b.jitter, keep, "", withinClosedOpen(0, 0.5),
+           "Random offsets of the particles, a fraction of the spacing (seeded by run.seed).");
+  k.table("radial_velocity", "none", "",
+          "Adds a velocity along x - center: {center = [...], speed = ...}.");
+  k.number("insert_time", b.insert_time, keep, "s", atLeast(0),
+           "The time it joins the run; until then it is absent (may overlap other bodies).");
+  k.matrix("lattice_transform", b.lattice_transform, off, "", "invertible",
+           "A matrix applied to the lattice about the shape's centre (sheared or turned sites).");
+  k.flag("allow_overlap", b.allow_overlap, keep,
+         "It may overlap bodies listed before it (their shapes are not checked).");
+  k.table("cantilever_velocity", "none", "dimension 2 or 3",
+          "Adds a beam's first bending mode as a y velocity: {root, length, tip_speed}.");
+  k.table("linear_velocity", "none", "",
+          "Adds v = G (x - center): a homogeneous stretch, shear or "
+          "spin.");
+  k.flag("fixed", b.fixed, keep,
+         "Moves rigidly at its uniform velocity: at rest a clamp, else a piston; bears stress.");
+  k.note("fixed", "no velocity field");
+  k.table("sine_velocity", "none", "",
+          "Adds v = amplitude sin(wavevector . (x - origin)), a standing wave's velocity.");
+}
+
+template <class K> void boxKeys(K& k, ShapeConfig& s) {
+  k.section("box", "An axis-aligned box, filled exactly by a cubic lattice.");
+  k.vector("min", s.min, required, "m", "in rz: r >= 0", "The lowest corner.");
+  k.vector("max", s.max, required, "m", "> min on every axis", "The highest corner.");
+}
+
+template <class K> void sphereKeys(K& k, ShapeConfig& s) {
+  k.section("sphere", "A ball: a disk in 2D, a segment in 1D; in rz centred on the axis or clear "
+                      "of it (a torus).");
+  k.vector("center", s.center, required, "m", "in rz: r = 0 or r >= radius", "The centre.");
+  k.number("radius", s.radius, required, "m", above(0), "The radius.");
+}
+
+template <class K> void cylinderKeys(K& k, ShapeConfig& s) {
+  k.section("cylinder", "A circular cylinder, 3D only.");
+  k.vector("base", s.base, required, "m", "", "The centre of one end face.", "float[3]");
+  k.vector("axis", s.axis, required, "", "not zero",
+           "The direction from the base to the other end (any length).", "float[3]");
+  k.number("radius", s.radius, required, "m", above(0), "The radius.");
+  k.number("length", s.length, required, "m", above(0), "The length along the axis.");
+}
+
+template <class K> void ringKeys(K& k, ShapeConfig& s) {
+  k.section("ring", "An annulus, 2D only.");
+  k.vector("center", s.center, required, "m", "in rz: r = 0 or r >= outer_radius", "The centre.",
+           "float[2]");
+  k.number("inner_radius", s.inner_radius, required, "m", atLeast(0), "The radius of the hole.");
+  k.note("inner_radius", "< outer_radius");
+  k.number("outer_radius", s.outer_radius, required, "m", above("inner_radius", s.inner_radius),
+           "The outer radius.");
+}
+
+template <class K> void keysOf(K& k, RadialVelocityConfig& v) {
+  k.section("", "A velocity along (x - center)/|x - center| added to every particle of the body.");
+  k.vector("center", v.center, required, "m", "", "The point it points away from.");
+  k.number("speed", v.speed, required, "m/s", any(),
+           "The speed added; negative: towards the centre (Noh's inflow).");
+}
+
+template <class K> void keysOf(K& k, CantileverVelocityConfig& v) {
+  k.section("", "The first bending mode of a beam clamped at root along +x (Gray, Monaghan & "
+                "Swift 2001).");
+  k.vector("root", v.root, required, "m", "", "The clamped end; no velocity at x below root's x.");
+  k.number("length", v.length, required, "m", above(0), "The beam's length along +x.");
+  k.number("tip_speed", v.tip_speed, required, "m/s", any(), "The y velocity of the free end.");
+}
+
+template <class K> void keysOf(K& k, LinearVelocityConfig& v) {
+  k.section("", "A homogeneous velocity gradient: v += G (x - center).");
+  k.vector("center", v.center, required, "m", "", "The point that gets no added velocity.");
+  k.matrix("gradient", v.gradient, required, "1/s", "",
+           "G, the velocity gradient, by rows: G[i][j] = dv_i/dx_j.");
+}
+
+template <class K> void keysOf(K& k, SineVelocityConfig& v) {
+  k.section("", "A standing wave's velocity: v += amplitude sin(wavevector . (x - origin)).");
+  k.vector("amplitude", v.amplitude, required, "m/s", "", "The velocity at the wave's crest.");
+  k.vector("wavevector", v.wavevector, required, "1/m", "", "k, 2 pi over the wavelength.");
+  k.vector("origin", v.origin, required, "m", "", "A node of the wave.");
+}
+
+const auto kBox = [](auto& k, ShapeConfig& s) { boxKeys(k, s); };
+const auto kSphere = [](auto& k, ShapeConfig& s) { sphereKeys(k, s); };
+const auto kCylinder = [](auto& k, ShapeConfig& s) { cylinderKeys(k, s); };
+const auto kRing = [](auto& k, ShapeConfig& s) { ringKeys(k, s); };
+const auto kKeys = [](auto& k, auto& c) -> decltype(keysOf(k, c)) { keysOf(k, c); };
+
+// In geometry 'rz' a round shape is a body of revolution: centred on the axis (a sphere, a
+// shell) or clear of it (a torus); one that straddles the axis would be two bodies in one.
+void checkAxisymmetric(const deck_detail::TableReader& r, bool rz, double centerR, double radius) {
+  if (!rz || centerR == 0.0 || centerR - radius >= 0.0) return;
+  r.fail("center", r.quoted("center") + " has r = " + deck_detail::formatNumber(centerR) +
+                       ": in geometry 'rz' a round shape is centred on the axis (r = 0) or lies "
+                       "clear of it (r - radius >= 0)");
+}
+
+} // namespace
+
 std::vector<KeySection> body() {
   return {
-      {"body",
-       "",
-       "A body: a shape filled with particles of one material on a lattice.",
-       {
-           {"name", "string", "required", "", "unique, non-empty, no '.'",
-            "What boundaries, probes and diagnostics call it by; --set addresses body.NAME."},
-           {"material", "string", "required", "", "a [[material]]'s name",
-            "The material its particles are made of."},
-           {"shape", "table", "required", "", "", "The region it fills: {type = ..., ...}."},
-           {"spacing", "float", "required", "m", "> 0",
-            "The lattice spacing of its particles, divided by run.resolution."},
-           {"lattice", "one of: cubic, hexagonal", "\"cubic\"", "", "",
-            "hexagonal: triangular in 2D, hexagonal close packing in 3D."},
-           {"velocity", "float[dim]", "zero", "m/s", "slower than light",
-            "Its uniform initial velocity, to which the velocity fields add."},
-           {"initial_density", "float", "the material's density (over alpha0 if porous)", "kg/m^3",
-            "> 0", "The starting density of its particles."},
-           {"initial_specific_energy", "float", "0.0", "J/kg", ">= 0; not with initial_pressure",
-            "The starting internal energy."},
-           {"initial_pressure", "float", "none", "Pa", "not with initial_specific_energy",
-            "The starting pressure: sets the energy from the eos (a cap material's density)."},
-           {"jitter", "float", "0.0", "", "[0, 0.5)",
-            "Random offsets of the particles, a fraction of the spacing (seeded by run.seed)."},
-           {"radial_velocity", "table", "none", "", "",
-            "Adds a velocity along x - center: {center = [...], speed = ...}."},
-           {"insert_time", "float", "0.0", "s", ">= 0",
-            "The time it joins the run; until then it is absent (may overlap other bodies)."},
-           {"lattice_transform", "float[dim][dim]", "none", "", "invertible",
-            "A matrix applied to the lattice about the shape's centre (sheared or turned sites)."},
-           {"allow_overlap", "boolean", "false", "", "",
-            "It may overlap bodies listed before it (their shapes are not checked)."},
-           {"cantilever_velocity", "table", "none", "", "dimension 2 or 3",
-            "Adds a beam's first bending mode as a y velocity: {root, length, tip_speed}."},
-           {"linear_velocity", "table", "none", "", "",
-            "Adds v = G (x - center): a homogeneous stretch, shear or spin."},
-           {"fixed", "boolean", "false", "", "no velocity field",
-            "Moves rigidly at its uniform velocity: at rest a clamp, else a piston; bears stress."},
-           {"sine_velocity", "table", "none", "", "",
-            "Adds v = amplitude sin(wavevector . (x - origin)), a standing wave's velocity."},
-       }},
+      sectionOf<BodyConfig>("body", kKeys),
       {"body.shape",
        "",
        "The region a body fills; particles are the lattice sites inside it.",
@@ -53,73 +144,14 @@ std::vector<KeySection> body() {
            {"type", "one of: box, sphere, cylinder, ring", "required", "", "",
             "The shape; the other keys are its type's."},
        }},
-      {"body.shape",
-       "box",
-       "An axis-aligned box, filled exactly by a cubic lattice.",
-       {
-           {"min", "float[dim]", "required", "m", "in rz: r >= 0", "The lowest corner."},
-           {"max", "float[dim]", "required", "m", "> min on every axis", "The highest corner."},
-       }},
-      {"body.shape",
-       "sphere",
-       "A ball: a disk in 2D, a segment in 1D; in rz centred on the axis or clear of it (a torus).",
-       {
-           {"center", "float[dim]", "required", "m", "in rz: r = 0 or r >= radius", "The centre."},
-           {"radius", "float", "required", "m", "> 0", "The radius."},
-       }},
-      {"body.shape",
-       "cylinder",
-       "A circular cylinder, 3D only.",
-       {
-           {"base", "float[3]", "required", "m", "", "The centre of one end face."},
-           {"axis", "float[3]", "required", "", "not zero",
-            "The direction from the base to the other end (any length)."},
-           {"radius", "float", "required", "m", "> 0", "The radius."},
-           {"length", "float", "required", "m", "> 0", "The length along the axis."},
-       }},
-      {"body.shape",
-       "ring",
-       "An annulus, 2D only.",
-       {
-           {"center", "float[2]", "required", "m", "in rz: r = 0 or r >= outer_radius",
-            "The centre."},
-           {"inner_radius", "float", "required", "m", ">= 0 and < outer_radius",
-            "The radius of the hole."},
-           {"outer_radius", "float", "required", "m", "> inner_radius", "The outer radius."},
-       }},
-      {"body.radial_velocity",
-       "",
-       "A velocity along (x - center)/|x - center| added to every particle of the body.",
-       {
-           {"center", "float[dim]", "required", "m", "", "The point it points away from."},
-           {"speed", "float", "required", "m/s", "",
-            "The speed added; negative: towards the centre (Noh's inflow)."},
-       }},
-      {"body.cantilever_velocity",
-       "",
-       "The first bending mode of a beam clamped at root along +x (Gray, Monaghan & Swift 2001).",
-       {
-           {"root", "float[dim]", "required", "m", "",
-            "The clamped end; no velocity at x below root's x."},
-           {"length", "float", "required", "m", "> 0", "The beam's length along +x."},
-           {"tip_speed", "float", "required", "m/s", "", "The y velocity of the free end."},
-       }},
-      {"body.linear_velocity",
-       "",
-       "A homogeneous velocity gradient: v += G (x - center).",
-       {
-           {"center", "float[dim]", "required", "m", "", "The point that gets no added velocity."},
-           {"gradient", "float[dim][dim]", "required", "1/s", "",
-            "G, the velocity gradient, by rows: G[i][j] = dv_i/dx_j."},
-       }},
-      {"body.sine_velocity",
-       "",
-       "A standing wave's velocity: v += amplitude sin(wavevector . (x - origin)).",
-       {
-           {"amplitude", "float[dim]", "required", "m/s", "", "The velocity at the wave's crest."},
-           {"wavevector", "float[dim]", "required", "1/m", "", "k, 2 pi over the wavelength."},
-           {"origin", "float[dim]", "required", "m", "", "A node of the wave."},
-       }},
+      sectionOf<ShapeConfig>("body.shape", kBox),
+      sectionOf<ShapeConfig>("body.shape", kSphere),
+      sectionOf<ShapeConfig>("body.shape", kCylinder),
+      sectionOf<ShapeConfig>("body.shape", kRing),
+      sectionOf<RadialVelocityConfig>("body.radial_velocity", kKeys),
+      sectionOf<CantileverVelocityConfig>("body.cantilever_velocity", kKeys),
+      sectionOf<LinearVelocityConfig>("body.linear_velocity", kKeys),
+      sectionOf<SineVelocityConfig>("body.sine_velocity", kKeys),
       {"jet",
        "",
        "A discrete jet (Austin 2013, Fig. 5.2): segments made bodies NAME_segmentK.",
@@ -141,6 +173,75 @@ std::vector<KeySection> body() {
             "The lattice spacing of the segments' particles, divided by run.resolution."},
        }},
   };
+}
+
+void readBody(const deck_detail::TableReader& r, BodyConfig& b, std::size_t dimension) {
+  Read read(r, dimension);
+  keysOf(read, b);
+  if (b.velocity.empty()) b.velocity.assign(dimension, 0.0);
+  double speed2 = 0.0;
+  for (double v : b.velocity) speed2 += v * v;
+  r.check(std::sqrt(speed2) < 299792458.0, "velocity", "slower than light (a speed below 3e8 m/s)",
+          std::sqrt(speed2));
+}
+
+void readShape(const deck_detail::TableReader& r, ShapeConfig& s, std::size_t dimension, bool rz) {
+  using deck_detail::formatNumber;
+  s.where = r.where();
+  const std::string type = r.choice("type", deck_detail::typeNames("body.shape"), std::nullopt);
+  s.type = kShapeNames.at(type);
+  const std::string dims = "; run.dimension is " + std::to_string(dimension) + ")";
+  if (s.type == ShapeType::Cylinder && dimension != 3)
+    r.fail("type", "shape 'cylinder' is 3D only (use 'sphere' or 'box' in 1D and 2D" + dims);
+  if (s.type == ShapeType::Ring && dimension != 2)
+    r.fail("type", "shape 'ring' is 2D only (use 'sphere' or 'box' in 1D and 3D" + dims);
+  deck_detail::allowTypedKeys(r, "body.shape", type, "shape");
+  Read read(r, dimension);
+  switch (s.type) {
+  case ShapeType::Box:
+    kBox(read, s);
+    for (std::size_t a = 0; a < dimension; ++a)
+      if (!(s.min[a] < s.max[a]))
+        r.fail("max", r.quoted("max") + " must exceed min on every axis (axis " +
+                          std::to_string(a) + ": min " + formatNumber(s.min[a]) + ", max " +
+                          formatNumber(s.max[a]) + ")");
+    if (rz && s.min[0] < 0.0)
+      r.fail("min", r.quoted("min") + " has r = " + formatNumber(s.min[0]) +
+                        " < 0: in geometry 'rz' x is the radius (the axis at r = 0)");
+    break;
+  case ShapeType::Sphere:
+    kSphere(read, s);
+    checkAxisymmetric(r, rz, s.center[0], s.radius);
+    break;
+  case ShapeType::Cylinder:
+    kCylinder(read, s);
+    if (deck_detail::norm(s.axis) == 0.0)
+      r.fail("axis", r.quoted("axis") + " must not be the zero vector");
+    break;
+  case ShapeType::Ring:
+    kRing(read, s);
+    checkAxisymmetric(r, rz, s.center[0], s.outer_radius);
+    break;
+  }
+}
+
+void readVelocityFields(const deck_detail::TableReader& r, std::size_t dimension, BodyConfig& b) {
+  // Key `key`'s inline table into `field`, read against its section ("body.KEY"), if present.
+  const auto read = [&](const char* key, auto& field) {
+    const toml::table* t = r.subtable(key);
+    if (!t) return;
+    const deck_detail::TableReader sub(*t, r.context().child(key), r.deckPath());
+    sub.allowOnly(*deck_detail::schemaKeys(std::string("body.") + key));
+    Read visit(sub, dimension);
+    keysOf(visit, field.emplace());
+  };
+  read("radial_velocity", b.radial_velocity);
+  if (r.has("cantilever_velocity") && dimension < 2)
+    r.fail("cantilever_velocity",
+           r.quoted("cantilever_velocity") + " needs run.dimension 2 or 3 (a transverse velocity)");
+  read("cantilever_velocity", b.cantilever_velocity);
+  read("linear_velocity", b.linear_velocity);
+  read("sine_velocity", b.sine_velocity);
 }
 
 } // namespace spall::io::keys

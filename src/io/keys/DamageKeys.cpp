@@ -1,6 +1,6 @@
 // A material's damage model, material.damage, by type: the reference's rows and the reader's
-// reads (ModelKeys.hpp), one function per model of materials/Damage.hpp.
-#include "ModelKeys.hpp"
+// reads (Keys.hpp), one function per model of materials/Damage.hpp.
+#include "Keys.hpp"
 
 namespace spall::io::keys {
 

@@ -1,7 +1,7 @@
 // A material's equation of state, material.eos, by type: the reference's rows and the reader's
-// reads (ModelKeys.hpp), one function per model of materials/Eos.hpp. Each model's rho0 is the
+// reads (Keys.hpp), one function per model of materials/Eos.hpp. Each model's rho0 is the
 // material's density (set by the reader, io/DeckMaterial.cpp).
-#include "ModelKeys.hpp"
+#include "Keys.hpp"
 
 namespace spall::io::keys {
 

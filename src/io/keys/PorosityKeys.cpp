@@ -1,6 +1,6 @@
 // A material's porosity model, material.porosity, by type: the reference's rows and the reader's
-// reads (ModelKeys.hpp) for the P-alpha model of materials/Porosity.hpp.
-#include "ModelKeys.hpp"
+// reads (Keys.hpp) for the P-alpha model of materials/Porosity.hpp.
+#include "Keys.hpp"
 
 #include <algorithm>
 

@@ -1,7 +1,52 @@
 // The deck's top level, [run] and [decomposition] (read in io/Deck.cpp).
-#include "spall/io/DeckKeys.hpp"
+#include "Keys.hpp"
+
+#include <fmt/format.h>
 
 namespace spall::io::keys {
+
+namespace {
+
+template <class K> void keysOf(K& k, RunConfig& run) {
+  k.section("", "What is run, and for how long.");
+  k.text("title", run.title, keep, "Printed by `spall check` and kept in outputs.");
+  k.integer("dimension", run.dimension, required, "", within(1, 3),
+            "The number of space dimensions.");
+  k.choice("geometry", run.geometry, kGeometryNames, keep,
+           "rz: axisymmetric, x the radius and y the axis.");
+  k.require("geometry", "rz needs dimension 2", run.geometry != Geometry::RZ || run.dimension == 2,
+            fmt::format(
+                "is 'rz' (axisymmetric: x = r, y = z), which needs run.dimension 2 (run.dimension "
+                "is {})",
+                run.dimension));
+  k.number("end_time", run.end_time, required, "s", above(0),
+           "Simulated time at which the run stops.");
+  k.integer("max_steps", run.max_steps, Depends{"no limit"}, "", atLeast(0),
+            "The run stops after this many steps even before end_time.");
+  k.number("resolution", run.resolution, keep, "", above(0),
+           "Multiplies the particles per unit length of every body (spacing / resolution).");
+  k.integer("seed", run.seed, keep, "", atLeast(0),
+            "Seeds the random numbers (jitter, Weibull flaws).");
+}
+
+template <class K> void keysOf(K& k, DecompositionConfig& d) {
+  k.section("", "How particles are shared among MPI ranks; results are the same bits on any "
+                "rank count.");
+  k.choice("curve", d.curve, kCurveNames, keep,
+           "The space-filling curve that orders particles for the partition.");
+  k.choice("partitioner", d.partitioner, kPartitionerNames, keep,
+           "sfc: cut the curve into equal-cost pieces; metis: partition the neighbor graph.");
+  k.integer("rebalance_every", d.rebalance_every, keep, "steps", atLeast(0),
+            "Steps between repartitions; 0: only when imbalance_threshold is crossed.");
+  k.number("imbalance_threshold", d.imbalance_threshold, keep, "", atLeast(1),
+           "Max/mean cost over ranks that triggers a repartition at any step.");
+  k.flag("reproducible", d.reproducible, keep,
+         "Neighbor sums in an order independent of the rank count (bit-for-bit results).");
+}
+
+const auto kKeys = [](auto& k, auto& c) -> decltype(keysOf(k, c)) { keysOf(k, c); };
+
+} // namespace
 
 std::vector<KeySection> topLevel() {
   return {
@@ -32,38 +77,21 @@ std::vector<KeySection> topLevel() {
            {"damping", "table", "none", "", "",
             "Velocity damping for a quasi-static start (confining pressure)."},
        }},
-      {"run",
-       "",
-       "What is run, and for how long.",
-       {
-           {"title", "string", "\"\"", "", "", "Printed by `spall check` and kept in outputs."},
-           {"dimension", "integer", "required", "", "1, 2 or 3", "The number of space dimensions."},
-           {"geometry", "one of: cartesian, rz", "\"cartesian\"", "", "rz needs dimension 2",
-            "rz: axisymmetric, x the radius and y the axis."},
-           {"end_time", "float", "required", "s", "> 0", "Simulated time at which the run stops."},
-           {"max_steps", "integer", "no limit", "", ">= 0",
-            "The run stops after this many steps even before end_time."},
-           {"resolution", "float", "1.0", "", "> 0",
-            "Multiplies the particles per unit length of every body (spacing / resolution)."},
-           {"seed", "integer", "1", "", ">= 0",
-            "Seeds the random numbers (jitter, Weibull flaws)."},
-       }},
-      {"decomposition",
-       "",
-       "How particles are shared among MPI ranks; results are the same bits on any rank count.",
-       {
-           {"curve", "one of: hilbert, morton", "\"hilbert\"", "", "",
-            "The space-filling curve that orders particles for the partition."},
-           {"partitioner", "one of: sfc, metis", "\"sfc\"", "", "",
-            "sfc: cut the curve into equal-cost pieces; metis: partition the neighbor graph."},
-           {"rebalance_every", "integer", "20", "steps", ">= 0",
-            "Steps between repartitions; 0: only when imbalance_threshold is crossed."},
-           {"imbalance_threshold", "float", "1.1", "", ">= 1",
-            "Max/mean cost over ranks that triggers a repartition at any step."},
-           {"reproducible", "boolean", "true", "", "",
-            "Neighbor sums in an order independent of the rank count (bit-for-bit results)."},
-       }},
+      sectionOf<RunConfig>("run", kKeys),
+      sectionOf<DecompositionConfig>("decomposition", kKeys),
   };
+}
+
+void readRun(const deck_detail::TableReader& r, RunConfig& run) {
+  r.allowOnly(*deck_detail::schemaKeys("run"));
+  Read read(r);
+  keysOf(read, run);
+}
+
+void readDecomposition(const deck_detail::TableReader& r, DecompositionConfig& d) {
+  r.allowOnly(*deck_detail::schemaKeys("decomposition"));
+  Read read(r);
+  keysOf(read, d);
 }
 
 } // namespace spall::io::keys

@@ -1,6 +1,6 @@
 // A material's strength model, material.strength, by type: the reference's rows and the reader's
-// reads (ModelKeys.hpp), one function per model of materials/Strength.hpp and CapPlasticity.hpp.
-#include "ModelKeys.hpp"
+// reads (Keys.hpp), one function per model of materials/Strength.hpp and CapPlasticity.hpp.
+#include "Keys.hpp"
 
 namespace spall::io::keys {
 

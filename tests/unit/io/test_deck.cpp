@@ -592,7 +592,8 @@ TEST_F(DeckTest, ProbeNeedsFields) {
 // ---- enumerations ----
 
 TEST_F(DeckTest, DimensionMustBeOneTwoOrThree) {
-  expectError(withLine(kDeck1D, 3, "dimension = 4"), 3, 13, "'run.dimension' must be 1, 2 or 3");
+  expectError(withLine(kDeck1D, 3, "dimension = 4"), 3, 13,
+              "'run.dimension' must be in [1, 3], got 4");
 }
 
 TEST_F(DeckTest, UnknownKernelSuggestsTheNearest) {
@@ -726,12 +727,12 @@ TEST_F(DeckTest, CylinderIs3DOnlyAndRingIs2DOnly) {
 // ---- physically impossible values ----
 
 TEST_F(DeckTest, NonPositiveEndTime) {
-  expectError(withLine(kDeck1D, 4, "end_time = 0"), 4, 12, "'run.end_time' must be > 0, got 0");
+  expectError(withLine(kDeck1D, 4, "end_time = 0"), 4, 12, "'run.end_time' must be > 0 (s), got 0");
 }
 
 TEST_F(DeckTest, NonPositiveMaterialDensity) {
   expectError(withLine(kDeck1D, 13, "density = -8930.0"), 13, 11,
-              "'material.copper.density' must be > 0, got -8930");
+              "'material.copper.density' must be > 0 (kg/m^3), got -8930");
 }
 
 TEST_F(DeckTest, NonPositiveSpacing) {
@@ -739,7 +740,7 @@ TEST_F(DeckTest, NonPositiveSpacing) {
 }
 
 TEST_F(DeckTest, CflOutsideZeroOne) {
-  expectError(withLine(kDeck1D, 8, "cfl = 0.0"), 8, 7, "'solver.cfl' must be in (0, 1] (above 1");
+  expectError(withLine(kDeck1D, 8, "cfl = 0.0"), 8, 7, "'solver.cfl' must be > 0, got 0");
   expectError(withLine(kDeck1D, 8, "cfl = 1.5"), 8, 7, "'solver.cfl' must be in (0, 1] (above 1");
   EXPECT_DOUBLE_EQ(load(withLine(kDeck1D, 8, "cfl = 1")).solver.cfl, 1.0);
   // A stability test asks for an unstable cfl explicitly; 10 is still the limit.
@@ -766,8 +767,8 @@ TEST_F(DeckTest, RingInnerRadiusBelowOuter) {
   const std::string line =
       R"(shape = { type = "ring", center = [0.0, 0.0], inner_radius = 0.3, outer_radius = 0.3 })";
   ASSERT_NE(lines(kDeck2D).at(44).find("ring"), std::string::npos);
-  expectError(withLine(kDeck2D, 45, line), 45, columnOf(line + "\n", 1, "0.3, outer"),
-              "'body.shell.shape.inner_radius' must be < outer_radius (0.3)");
+  expectError(withLine(kDeck2D, 45, line), 45, columnOf(line + "\n", 1, "0.3 }"),
+              "'body.shell.shape.outer_radius' must be > inner_radius, inner_radius = 0.3 (m)");
 }
 
 TEST_F(DeckTest, ZeroWallNormal) {
@@ -780,10 +781,10 @@ TEST_F(DeckTest, PeriodicAxisAndRange) {
   deck = withLine(deck, 31, "axis = 1");
   deck = withLine(deck, 32, "min = 0.0");
   deck = withLine(deck, 33, "max = 1.0");
-  expectError(deck, 31, 8, "'boundary.1.axis' must be 0 .. 0");
+  expectError(deck, 31, 8, "'boundary.1.axis' must be in [0, dimension - 1], dimension - 1 = 0");
   deck = withLine(deck, 31, "axis = 0");
   deck = withLine(deck, 33, "max = 0.0");
-  expectError(deck, 33, 7, "'boundary.1.max' must be > min (0)");
+  expectError(deck, 33, 7, "'boundary.1.max' must be > min, min = 0 (m)");
 }
 
 TEST_F(DeckTest, JitterBelowHalf) {

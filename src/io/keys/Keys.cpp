@@ -1,5 +1,5 @@
-// The bounds, defaults and checks of ModelKeys.hpp.
-#include "ModelKeys.hpp"
+// The bounds, defaults and checks of Keys.hpp.
+#include "Keys.hpp"
 
 #include <fmt/format.h>
 
@@ -36,6 +36,8 @@ bool Bound::holds(double v) const {
     return v >= a && v <= b;
   case Kind::OpenClosed:
     return v > a && v <= b;
+  case Kind::ClosedOpen:
+    return v >= a && v < b;
   case Kind::Open:
     return v > a && v < b;
   }
@@ -60,6 +62,8 @@ std::string Bound::text() const {
     return "[" + a + ", " + b + "]";
   case Kind::OpenClosed:
     return "(" + a + ", " + b + "]";
+  case Kind::ClosedOpen:
+    return "[" + a + ", " + b + ")";
   case Kind::Open:
     return "(" + a + ", " + b + ")";
   }
@@ -96,6 +100,9 @@ void Read::check(std::string_view key, double v, std::string_view unit, const Bo
   if (b.holds(v)) return;
   // A bound by other keys says their values: "> e_iv, e_iv = 2e6".
   std::string what = b.text();
+  if (b.kind == Bound::Kind::Closed || b.kind == Bound::Kind::OpenClosed ||
+      b.kind == Bound::Kind::ClosedOpen || b.kind == Bound::Kind::Open)
+    what = "in " + what;
   if (b.loValue)
     what += ", " + std::string(b.loKey) + " = " + deck_detail::formatNumber(*b.loValue);
   if (b.hiValue)
