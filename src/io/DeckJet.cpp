@@ -1,6 +1,7 @@
 // [[jet]]: a discrete jet (Austin 2013, Fig. 5.2), a train of cylindrical segments each with its
 // own radius, length, speed and insert time, turned into bodies that join the run at their times.
 #include "DeckDetail.hpp"
+#include "keys/Keys.hpp"
 
 #include <cmath>
 #include <filesystem>
@@ -129,15 +130,14 @@ void inlineJetFiles(toml::table& root, const std::string& deckPath) {
 void readJet(const TableReader& r, std::size_t dimension, bool rz,
              const std::vector<MaterialConfig>& materials, std::vector<BodyConfig>& bodies,
              const std::string& name) {
-  r.allowOnly(*schemaKeys("jet"));
+  const keys::JetConfig jet = keys::readJet(r, dimension);
   BodyConfig proto;
   proto.where = r.where();
-  proto.material = r.required(r.string("material"), "material");
+  proto.material = jet.material;
   proto.material_index = materialIndex(r, proto.material, materials);
-  proto.spacing = r.required(r.number("spacing"), "spacing");
-  r.check(proto.spacing > 0.0, "spacing", "> 0", proto.spacing);
-  std::vector<double> axis = r.required(r.vector("axis", dimension), "axis");
-  const std::vector<double> entry = r.required(r.vector("entry", dimension), "entry");
+  proto.spacing = jet.spacing;
+  std::vector<double> axis = jet.axis;
+  const std::vector<double>& entry = jet.entry;
   double n = 0.0;
   for (double a : axis) n += a * a;
   n = std::sqrt(n);

@@ -117,6 +117,25 @@ template <class K> void keysOf(K& k, SineVelocityConfig& v) {
   k.vector("origin", v.origin, required, "m", "", "A node of the wave.");
 }
 
+template <class K> void keysOf(K& k, JetConfig& j) {
+  k.section("", "A discrete jet (Austin 2013, Fig. 5.2): segments made bodies NAME_segmentK.");
+  k.other("name", "string", "\"jetK\", K its 1-based index", "", "unique, non-empty, no '.'",
+          "Names its segments' bodies; a penetrator may name the whole jet.");
+  k.other("file", "string", "required unless segments is given", "", "",
+          "A CSV of segment,radius,length,velocity,insert_time, relative to the deck.");
+  k.other("segments", "[[float, float, float, float, float]]", "read from file", "",
+          "distinct integer ids; radius, length > 0; times >= 0",
+          "Rows [segment, radius m, length m, velocity m/s, insert_time s]; as the file holds.");
+  k.text("material", j.material, required, "a [[material]]'s name",
+         "The material of every segment.");
+  k.vector("axis", j.axis, required, "", "not zero; a coordinate axis below 3D",
+           "The direction of flight (any length); in rz [0, 1] or [0, -1].");
+  k.vector("entry", j.entry, required, "m", "in rz: on the axis",
+           "Where each segment's front face is at its insert time.");
+  k.number("spacing", j.spacing, required, "m", above(0),
+           "The lattice spacing of the segments' particles, divided by run.resolution.");
+}
+
 const auto kBox = [](auto& k, ShapeConfig& s) { boxKeys(k, s); };
 const auto kSphere = [](auto& k, ShapeConfig& s) { sphereKeys(k, s); };
 const auto kCylinder = [](auto& k, ShapeConfig& s) { cylinderKeys(k, s); };
@@ -152,26 +171,7 @@ std::vector<KeySection> body() {
       sectionOf<CantileverVelocityConfig>("body.cantilever_velocity", kKeys),
       sectionOf<LinearVelocityConfig>("body.linear_velocity", kKeys),
       sectionOf<SineVelocityConfig>("body.sine_velocity", kKeys),
-      {"jet",
-       "",
-       "A discrete jet (Austin 2013, Fig. 5.2): segments made bodies NAME_segmentK.",
-       {
-           {"name", "string", "\"jetK\", K its 1-based index", "", "unique, non-empty, no '.'",
-            "Names its segments' bodies; a penetrator may name the whole jet."},
-           {"file", "string", "required unless segments is given", "", "",
-            "A CSV of segment,radius,length,velocity,insert_time, relative to the deck."},
-           {"segments", "[[float, float, float, float, float]]", "read from file", "",
-            "distinct integer ids; radius, length > 0; times >= 0",
-            "Rows [segment, radius m, length m, velocity m/s, insert_time s]; as the file holds."},
-           {"material", "string", "required", "", "a [[material]]'s name",
-            "The material of every segment."},
-           {"axis", "float[dim]", "required", "", "not zero; a coordinate axis below 3D",
-            "The direction of flight (any length); in rz [0, 1] or [0, -1]."},
-           {"entry", "float[dim]", "required", "m", "in rz: on the axis",
-            "Where each segment's front face is at its insert time."},
-           {"spacing", "float", "required", "m", "> 0",
-            "The lattice spacing of the segments' particles, divided by run.resolution."},
-       }},
+      sectionOf<JetConfig>("jet", kKeys),
   };
 }
 
@@ -242,6 +242,14 @@ void readVelocityFields(const deck_detail::TableReader& r, std::size_t dimension
   read("cantilever_velocity", b.cantilever_velocity);
   read("linear_velocity", b.linear_velocity);
   read("sine_velocity", b.sine_velocity);
+}
+
+JetConfig readJet(const deck_detail::TableReader& r, std::size_t dimension) {
+  r.allowOnly(*deck_detail::schemaKeys("jet"));
+  JetConfig j;
+  Read read(r, dimension);
+  keysOf(read, j);
+  return j;
 }
 
 } // namespace spall::io::keys

@@ -495,6 +495,13 @@ void readBody(const deck_detail::TableReader& r, BodyConfig& b, std::size_t dime
 void readShape(const deck_detail::TableReader& r, ShapeConfig& s, std::size_t dimension, bool rz);
 // A body's velocity fields (added to its uniform velocity where the particles are made).
 void readVelocityFields(const deck_detail::TableReader& r, std::size_t dimension, BodyConfig& b);
+// A [[jet]]'s keys but its name and segments (the deck reader makes the segments' bodies).
+struct JetConfig {
+  std::string material;
+  std::vector<double> axis, entry;
+  double spacing = 0.0;
+};
+JetConfig readJet(const deck_detail::TableReader& r, std::size_t dimension);
 // Without the probe's name (the deck reader's, with the names of all entries).
 void readProbe(const deck_detail::TableReader& r, ProbeConfig& p, std::size_t dimension);
 // The keys of [penetration] as given; the reader checks the bodies they name.
