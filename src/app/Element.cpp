@@ -285,9 +285,7 @@ void checkElementOutput(const ElementOptions& o) {
 void runElement(const ElementOptions& o) {
   if (o.substeps < 1) throw UsageError("--substeps must be at least 1");
   if (!(o.flawVolume > 0.0)) throw UsageError("--flaw-volume must be positive");
-  if (o.kinematics != "run" && o.kinematics != "midpoint")
-    throw UsageError("--kinematics is run or midpoint, got '" + o.kinematics + "'");
-  const bool midpoint = o.kinematics == "midpoint";
+  const bool midpoint = o.kinematics == ElementOptions::Kinematics::Midpoint;
   if (!o.state.empty() && o.substeps != 1)
     throw UsageError("--state replays a recorded particle row by row: --substeps 1");
   const Deck deck = loadDeck(o.deckPath, o.overrides);

@@ -11,8 +11,10 @@
 #include "spall/parallel/Mpi.hpp"
 
 #include <CLI/CLI.hpp>
+
 #include <fmt/format.h>
 #include <malloc.h>
+#include <map>
 
 namespace {
 
@@ -77,9 +79,17 @@ int main(int argc, char** argv) {
   elementCmd->add_option("--set", element.overrides, "override a deck value: KEY=VALUE");
   elementCmd->add_option("--substeps", element.substeps,
                          "steps between two rows of the table (default 100)");
-  elementCmd->add_option("--kinematics", element.kinematics,
-                         "velocity gradient from F: run (Austin Eq. 4.10, replays a run; default) "
-                         "or midpoint (Eq. 4.8, exact under superimposed rotation)");
+  // Parsed once, here: the driver sees the enum.
+  elementCmd
+      ->add_option_function<std::string>(
+          "--kinematics",
+          [&element](const std::string& v) {
+            using K = spall::app::ElementOptions::Kinematics;
+            element.kinematics = v == "midpoint" ? K::Midpoint : K::Run;
+          },
+          "velocity gradient from F: run (Austin Eq. 4.10, replays a run; default) or midpoint "
+          "(Eq. 4.8, exact under superimposed rotation)")
+      ->check(CLI::IsMember({"run", "midpoint"}));
   elementCmd->add_option("--state", element.state,
                          "a recorded particle's particle_ID.csv: its density and energy each row");
   elementCmd->add_flag("--every-substep", element.everySubstep,

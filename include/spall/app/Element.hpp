@@ -14,13 +14,14 @@ struct ElementOptions {
   std::string table;                  // the F-table
   std::string output;                 // the CSV written
   int substeps = 100;                 // steps between two rows of the table
-  // How a step's velocity gradient comes from F_n and F_n+1. "run" (Austin 2013, Eq. 4.10): L =
-  // (F_n+1 F_n^-1 - I)/dt, the inverse of a run's update F_n+1 = (I + dt L) F_n, so a particle's
-  // recorded history replays exactly. "midpoint" (his Eq. 4.8): L = (F_n+1 - F_n)/dt ((F_n+1 +
-  // F_n)/2)^-1, whose symmetric part vanishes for any rotation increment (a Cayley transform):
-  // with the strength models' Hughes-Winget update a superimposed rotation is then followed
-  // exactly. "run" reads a rotation increment dtheta as a strain of -dtheta^2/2.
-  std::string kinematics = "run";
+  // How a step's velocity gradient comes from F_n and F_n+1 (--kinematics). "run" (Austin 2013,
+  // Eq. 4.10): L = (F_n+1 F_n^-1 - I)/dt, the inverse of a run's update F_n+1 = (I + dt L) F_n, so
+  // a particle's recorded history replays exactly. "midpoint" (his Eq. 4.8): L = (F_n+1 - F_n)/dt
+  // ((F_n+1 + F_n)/2)^-1, whose symmetric part vanishes for any rotation increment (a Cayley
+  // transform): with the strength models' Hughes-Winget update a superimposed rotation is then
+  // followed exactly. "run" reads a rotation increment dtheta as a strain of -dtheta^2/2.
+  enum class Kinematics { Run, Midpoint };
+  Kinematics kinematics = Kinematics::Run;
   // A recorded particle's state (particles/particle_ID.csv of a run): at each table row the
   // material update gets the density and energy the run's update saw, then the state is
   // re-evaluated at the row's (kick-corrected) density and energy, as a run's step does; so the
