@@ -1,5 +1,6 @@
-// [[body]], its shapes and velocity fields, and [[jet]] (read in io/Deck.cpp,
-// io/DeckBodyVelocity.cpp and io/DeckJet.cpp).
+// [[body]], its shapes and velocity fields, and [[jet]]: the reference's rows and the reader's
+// reads (Keys.hpp); io/Deck.cpp checks the material they name, io/DeckJet.cpp makes a jet's
+// segments.
 #include "Keys.hpp"
 
 #include <cmath>

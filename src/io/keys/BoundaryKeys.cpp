@@ -1,4 +1,5 @@
-// [[boundary]] by type and [[energy_source]] (read in io/Deck.cpp, io/DeckPressureTable.cpp).
+// [[boundary]] by type and [[energy_source]]: the rows and reads (Keys.hpp); io/Deck.cpp checks
+// the body a pressure names and the geometry of walls, io/DeckPressureTable.cpp reads the table.
 #include "Keys.hpp"
 
 namespace spall::io::keys {

@@ -94,6 +94,14 @@ inline Bound between(double lo, std::string_view hiKey, const double& hi) {
   return {Bound::Kind::Open, lo, 0.0, {}, nullptr, hiKey, &hi};
 }
 
+// A bound by another key's value reads it when checked: never from a temporary.
+Bound withinOpenClosed(double, std::string_view, const double&&) = delete;
+Bound above(std::string_view, const double&&) = delete;
+Bound between(std::string_view, const double&&, std::string_view, const double&) = delete;
+Bound between(std::string_view, const double&, std::string_view, const double&&) = delete;
+Bound within(double, std::string_view, const double&&) = delete;
+Bound between(double, std::string_view, const double&&) = delete;
+
 // The default of a key: `required` (the deck must give it), `off` (absent leaves the
 // parameter's own value, meaning the feature is off: "none" in the reference), or a value.
 struct Required {};
@@ -283,8 +291,10 @@ public:
   }
   void number(std::string_view key, std::optional<double>& v, Off, std::string_view unit, Bound b,
               std::string_view) {
-    v = r_.number(key, b.infinite);
-    if (v) check(key, *v, unit, b);
+    if (const auto given = r_.number(key, b.infinite)) {
+      check(key, *given, unit, b);
+      v = given;
+    }
   }
   void number(std::string_view key, double& v, Keep, std::string_view unit, Bound b,
               std::string_view) {
@@ -339,8 +349,10 @@ public:
   }
   void number(std::string_view key, std::optional<double>& v, Depends, std::string_view unit,
               Bound b, std::string_view) {
-    v = r_.number(key, b.infinite);
-    if (v) check(key, *v, unit, b);
+    if (const auto given = r_.number(key, b.infinite)) {
+      check(key, *given, unit, b);
+      v = given;
+    }
   }
   void vector(std::string_view key, std::vector<double>& v, Required, std::string_view,
               std::string_view, std::string_view, std::string_view = {}) {
@@ -352,7 +364,7 @@ public:
   }
   void matrix(std::string_view key, std::optional<std::vector<std::vector<double>>>& v, Off,
               std::string_view, std::string_view, std::string_view) {
-    v = r_.matrix(key, dimension_);
+    if (auto given = r_.matrix(key, dimension_)) v = std::move(given);
   }
   void matrix(std::string_view key, std::vector<std::vector<double>>& v, Required, std::string_view,
               std::string_view, std::string_view) {

@@ -1,4 +1,5 @@
-// The deck's top level, [run] and [decomposition] (read in io/Deck.cpp).
+// The deck's top level (the tables it may hold), [run] and [decomposition]: the rows and reads
+// (Keys.hpp).
 #include "Keys.hpp"
 
 #include <fmt/format.h>
