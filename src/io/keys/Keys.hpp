@@ -302,11 +302,8 @@ public:
     check(key, v, unit, b);
   }
   void number(std::string_view key, double& v, Depends, std::string_view unit, Bound b,
-              std::string_view) {
-    if (const auto given = r_.number(key, b.infinite)) {
-      v = *given;
-      check(key, v, unit, b);
-    }
+              std::string_view meaning) {
+    number(key, v, off, unit, b, meaning); // absent: as it is, as with `off`
   }
   template <class I>
   void integer(std::string_view key, I& v, Required, std::string_view unit, Bound b,
@@ -348,11 +345,8 @@ public:
     if (r_.has(key)) v = r_.choice(key, names, v);
   }
   void number(std::string_view key, std::optional<double>& v, Depends, std::string_view unit,
-              Bound b, std::string_view) {
-    if (const auto given = r_.number(key, b.infinite)) {
-      check(key, *given, unit, b);
-      v = given;
-    }
+              Bound b, std::string_view meaning) {
+    number(key, v, off, unit, b, meaning);
   }
   void vector(std::string_view key, std::vector<double>& v, Required, std::string_view,
               std::string_view, std::string_view, std::string_view = {}) {
