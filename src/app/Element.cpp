@@ -282,10 +282,15 @@ void checkElementOutput(const ElementOptions& o) {
 
 } // namespace
 
+ElementOptions::Kinematics kinematicsFor(const ElementOptions& o) {
+  if (o.kinematics) return *o.kinematics;
+  return o.state.empty() ? ElementOptions::Kinematics::Midpoint : ElementOptions::Kinematics::Run;
+}
+
 void runElement(const ElementOptions& o) {
   if (o.substeps < 1) throw UsageError("--substeps must be at least 1");
   if (!(o.flawVolume > 0.0)) throw UsageError("--flaw-volume must be positive");
-  const bool midpoint = o.kinematics == ElementOptions::Kinematics::Midpoint;
+  const bool midpoint = kinematicsFor(o) == ElementOptions::Kinematics::Midpoint;
   if (!o.state.empty() && o.substeps != 1)
     throw UsageError("--state replays a recorded particle row by row: --substeps 1");
   const Deck deck = loadDeck(o.deckPath, o.overrides);

@@ -87,8 +87,8 @@ int main(int argc, char** argv) {
             using K = spall::app::ElementOptions::Kinematics;
             element.kinematics = v == "midpoint" ? K::Midpoint : K::Run;
           },
-          "velocity gradient from F: run (Austin Eq. 4.10, replays a run; default) or midpoint "
-          "(Eq. 4.8, exact under superimposed rotation)")
+          "velocity gradient from F: midpoint (Austin Eq. 4.8, exact under superimposed "
+          "rotation; the default for a table) or run (Eq. 4.10, a run's; the default with --state)")
       ->check(CLI::IsMember({"run", "midpoint"}));
   elementCmd->add_option("--state", element.state,
                          "a recorded particle's particle_ID.csv: its density and energy each row");
@@ -132,6 +132,15 @@ int main(int argc, char** argv) {
     if (*elementCmd) {
       if (mpi.size() > 1) throw spall::UsageError("spall element runs on one rank");
       spall::app::runElement(element);
+      // Which kinematics it used, and why, when the user did not choose.
+      using K = spall::app::ElementOptions::Kinematics;
+      const K used = spall::app::kinematicsFor(element);
+      const char* why = element.kinematics      ? "as asked"
+                        : element.state.empty() ? "the default for a table"
+                                                : "the default for a recorded particle";
+      fmt::print("element: wrote {} ({} kinematics, Austin 2013 Eq. {}, {})\n", element.output,
+                 used == K::Midpoint ? "midpoint" : "run", used == K::Midpoint ? "4.8" : "4.10",
+                 why);
       return 0;
     }
     if (*historyCmd) {

@@ -7,15 +7,24 @@ the J2 material of tests/verification/element/j2.toml, the same material code as
   exactly); the deviator grows by (4/3) G d(ln lambda) and is held at |s_xx| = 2Y/3 (von Mises in
   uniaxial strain: s = s_xx diag(1, -1/2, -1/2)); so the loading slope is K + 4G/3, the yielded
   one K, unloading elastic, then reverse yield. sigma = -p I + s in all three normal components.
-  With the default kinematics (Eq. 4.10, a run's) a step's strain is lambda_n+1/lambda_n - 1, not
-  its logarithm: per step the deviator is off by (4/3) G d^2/2 (d = 1e-4 to 2e-4 here, 100
-  substeps a row), at most ~1e5 Pa over the path; tolerance 2e5 Pa = 1e-3 of 2Y/3 (measured
-  4.0e4). With --kinematics midpoint (Eq. 4.8) the step strain is ln to third order: 2e3 Pa
-  (1e-5 of 2Y/3; measured 1.3).
+  With the default kinematics for a table (the midpoint one, Eq. 4.8) the step strain is ln to
+  third order: 2e3 Pa (1e-5 of 2Y/3; measured 1.3). With --kinematics run (Eq. 4.10, a run's) a
+  step's strain is lambda_n+1/lambda_n - 1, not its logarithm: per step the deviator is off by
+  (4/3) G d^2/2 (d = 1e-4 to 2e-4 here, 100 substeps a row), at most ~1e5 Pa over the path;
+  tolerance 2e5 Pa = 1e-3 of 2Y/3 (measured 4.0e4).
 - Frame indifference (Austin Sec. 4.1.1.2): the same path with a superimposed rotation about z,
-  0 to 360 degrees; with the midpoint kinematics the unrotated stress R^T sigma R equals the
-  unrotated run's at every table row within 1e-3 of 2Y/3 (measured 3.8e4 Pa, 1.9e-4 of 2Y/3, at
-  100 substeps a row; 3.8e2 at 1000: second order in the step).
+  0 to 360 degrees; with the defaults the unrotated stress R^T sigma R equals the unrotated run's
+  at every table row within 1e-3 of 2Y/3 (measured 3.8e4 Pa, 1.9e-4 of 2Y/3, at 100 substeps a
+  row; 3.8e2 at 1000: second order in the step).
+- Brannon's test 01 (tests/verification/element/elastic.toml, K 1e4 Pa, G 1.5e4 Pa): uniaxial
+  strain F11 1 -> 0.998 with a full turn about z, a table row per quarter turn. With the defaults
+  the unrotated stress at each row is the closed form (docstring of the table) within 6e-3 Pa:
+  the midpoint rule turns the stress by the Cayley angle 2 atan(dtheta/2) instead of dtheta, short
+  by dtheta^3/12 a substep (dtheta = pi/200 at 100 substeps a quarter turn: 3.2e-8 rad, 1.3e-5 rad
+  a turn), which mixes the deviator's 45 Pa difference sxx - syy by ~6e-4 Pa into the shear,
+  and the linear interpolation of F under the turn adds a strain error of the same order
+  (measured 2.9e-3 Pa). With --kinematics run the rotation reads as a pressure (about 1e2 Pa,
+  falling as 1/substeps); asserted to be more than 10 Pa off, so the check can tell the two.
 - Bad input: a table with a bad number (file:line:column), a material the deck lacks, an output
   that exists: exit 2, and the existing file is left as it was.
 
@@ -43,8 +52,8 @@ def check(cond, message):
         failures.append(message)
 
 
-def drive(table, out, *options, expect=0):
-    cmd = [SPALL, "element", str(DECK), "--material", "j2", "--table", str(table),
+def drive(table, out, *options, expect=0, deck=DECK, material="j2"):
+    cmd = [SPALL, "element", str(deck), "--material", material, "--table", str(table),
            "--output", str(out), *options]
     p = subprocess.run(cmd, capture_output=True, text=True, stdin=subprocess.DEVNULL)
     if p.returncode != expect:
@@ -69,9 +78,13 @@ def analytic(lam):
 
 with tempfile.TemporaryDirectory() as tmp:
     tmp = Path(tmp)
-    for kinematics, tolerance in (("run", 1e-3 * CAP), ("midpoint", 1e-5 * CAP)):
+    for kinematics, tolerance in (("run", 1e-3 * CAP), ("default", 1e-5 * CAP)):
         out = tmp / f"uniaxial_{kinematics}.csv"
-        drive(ELEMENT / "uniaxial_strain.ftable", out, "--every-substep", "--kinematics", kinematics)
+        asked = ("--kinematics", kinematics) if kinematics != "default" else ()
+        p = drive(ELEMENT / "uniaxial_strain.ftable", out, "--every-substep", *asked)
+        if kinematics == "default":
+            check("midpoint kinematics" in p.stdout and "default for a table" in p.stdout,
+                  f"the driver says which kinematics it used: {p.stdout.strip()}")
         if not out.exists():
             continue
         r = read(out)
@@ -82,10 +95,10 @@ with tempfile.TemporaryDirectory() as tmp:
         check(worst < tolerance and len(r["t"]) == 301 and yielded.sum() > 50,
               f"uniaxial strain ({kinematics}): {len(r['t'])} rows, {yielded.sum()} yielded, "
               f"worst |sigma - analytic| {worst:.3g} Pa (< {tolerance:.3g})")
-    # Frame indifference: rotating against still, both with the midpoint kinematics.
+    # Frame indifference: rotating against still, both with the defaults.
     still, turning = tmp / "still.csv", tmp / "turning.csv"
-    drive(ELEMENT / "uniaxial_strain.ftable", still, "--kinematics", "midpoint")
-    drive(ELEMENT / "uniaxial_strain_rotating.ftable", turning, "--kinematics", "midpoint")
+    drive(ELEMENT / "uniaxial_strain.ftable", still)
+    drive(ELEMENT / "uniaxial_strain_rotating.ftable", turning)
     if still.exists() and turning.exists():
         a, b = read(still), read(turning)
         worst = max(np.max(np.abs(a[c] - b["u" + c])) for c in ("sxx", "syy", "szz", "sxy",
@@ -94,6 +107,32 @@ with tempfile.TemporaryDirectory() as tmp:
         check(worst < 1e-3 * CAP and rotated > 0.1 * CAP,
               f"superimposed rotation to 360 deg: unrotated stress within {worst:.3g} Pa of the "
               f"still element's (< {1e-3 * CAP:.3g}); the rotated stress differs by {rotated:.3g}")
+    # Brannon's test 01: K 1e4, G 1.5e4 Pa, uniaxial strain with a turn, a row per quarter turn.
+    Ke, Ge = 1.0e4, 1.5e4
+    for kinematics, exact in (("default", True), ("run", False)):
+        out = tmp / f"brannon01_{kinematics}.csv"
+        asked = ("--kinematics", kinematics) if kinematics != "default" else ()
+        drive(ELEMENT / "uniaxial_strain_quarter_turns.ftable", out, *asked,
+              deck=ELEMENT / "elastic.toml", material="elastic")
+        if not out.exists():
+            continue
+        r = read(out)
+        lam = np.hypot(r["F11"], r["F21"])  # the stretch: F's first column turns about z
+        p_ = Ke * (1.0 / lam - 1.0)
+        want = {"usxx": -p_ + 4.0 / 3.0 * Ge * np.log(lam),
+                "usyy": -p_ - 2.0 / 3.0 * Ge * np.log(lam),
+                "uszz": -p_ - 2.0 / 3.0 * Ge * np.log(lam)}
+        worst = max(np.max(np.abs(r[c] - w)) for c, w in want.items())
+        worst = max(worst, max(np.max(np.abs(r[c])) for c in ("usxy", "usyz", "usxz")))
+        first = f"{r['usxx'][1]:.4f} / {r['usyy'][1]:.5f} Pa at the first quarter turn " \
+                f"(exact {want['usxx'][1]:.4f} / {want['usyy'][1]:.5f})"
+        if exact:
+            check(len(lam) == 5 and worst < 6e-3,
+                  f"Brannon test 01, defaults: {first}; worst {worst:.3g} Pa (< 6e-3)")
+        else:
+            check(worst > 10.0,
+                  f"Brannon test 01, --kinematics run: {first}; worst {worst:.3g} Pa (> 10: the "
+                  "run's kinematics is not objective, and the check tells it)")
     # Bad input: exit 2, nothing overwritten.
     bad = tmp / "bad.ftable"
     bad.write_text("0 1 0 0 0 1 0 0 0 1\n1 0.99 0 0 0 1 0 x 0 1\n")

@@ -2,6 +2,7 @@
 // `spall element`: one material point driven through a deformation-gradient history (an F-table,
 // io/FTable.hpp) by the same material update a run uses (docs/reference.md, "Single-element
 // driver").
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,8 +21,10 @@ struct ElementOptions {
   // ((F_n+1 + F_n)/2)^-1, whose symmetric part vanishes for any rotation increment (a Cayley
   // transform): with the strength models' Hughes-Winget update a superimposed rotation is then
   // followed exactly. "run" reads a rotation increment dtheta as a strain of -dtheta^2/2.
+  // Unset (no --kinematics): midpoint for a table, whose rotation must not show as a pressure;
+  // run for a recorded particle (--state), which must see what the run handed it (kinematicsFor).
   enum class Kinematics { Run, Midpoint };
-  Kinematics kinematics = Kinematics::Run;
+  std::optional<Kinematics> kinematics;
   // A recorded particle's state (particles/particle_ID.csv of a run): at each table row the
   // material update gets the density and energy the run's update saw, then the state is
   // re-evaluated at the row's (kick-corrected) density and energy, as a run's step does; so the
@@ -31,6 +34,9 @@ struct ElementOptions {
   bool overwrite = false;
   double flawVolume = 1.0e-9; // m^3: the volume a Grady-Kipp material's flaws are drawn for
 };
+
+// The kinematics a drive uses: the one asked for, else midpoint for a table and run with --state.
+ElementOptions::Kinematics kinematicsFor(const ElementOptions& options);
 
 // Throws DeckError (deck or table, exit 2), UsageError (options, exit 2) or RunError (the
 // material failed: non-finite state, exit 1). The CSV appears only once complete, or once the
