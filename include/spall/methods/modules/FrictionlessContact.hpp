@@ -1,6 +1,7 @@
 #pragma once
 // contact = "frictionless" or "auto": across a contact-group boundary SPH's force loop transmits
-// compression only (no tension, no shear), so it needs each neighbor's group, ghosts included;
+// each side's normal compression only (no tension, no shear) and counts the pairs' normal strain
+// once the bodies touch, so it needs each neighbor's group, ghosts included;
 // MPM (contact = "frictionless" only) gives each group its own velocity field on the grid.
 // The groups are set where the bodies are made (app/BodyGenerator: every rank sees every body).
 // SPH's pair term: Sph::RatesLoop::contactRule (src/solvers/SphRatesLoop.hpp); MPM's:
