@@ -179,7 +179,7 @@ with tempfile.TemporaryDirectory() as tmp:
     for k, (label, two_d, sets, flaws, plateau) in enumerate(CASES):
         deck = deck_2d(tmp) if two_d else DECK
         out = tmp / f"case{k}"
-        if not t.run(deck, out, *sets, *([] if flaws else NO_FLAWS), "output.every=1e-8",
+        if not t.run(deck, out, *sets, *([] if flaws else NO_FLAWS), "output.every=2.5e-8",
                      "run.end_time=1.8e-6", ranks=1):
             continue
         x0, body, faces, failed_at, at_05, peak = history(out)
