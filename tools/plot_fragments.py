@@ -10,7 +10,6 @@ Examples:
   tools/plot_fragments.py out/rock_impact_2d --min-particles 2  # lone particles left out
 """
 import argparse
-import csv
 import sys
 from collections import defaultdict
 from pathlib import Path
@@ -21,13 +20,16 @@ matplotlib.use("Agg")  # headless: no display on build or cluster nodes
 import matplotlib.pyplot as plt
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parent / "python"))
+import spall  # noqa: E402  (tools/python/spall: the readers of spall's output)
+
 
 def read_catalogue(path):
     """{time: list of (particles, mass)} in the file's order (largest first)."""
     out = defaultdict(list)
-    with open(path, newline="") as f:
-        for row in csv.DictReader(f):
-            out[float(row["time"])].append((int(row["particles"]), float(row["mass"])))
+    t = spall.read_csv(path)
+    for time, n, m in zip(t["time"], t["particles"], t["mass"]):
+        out[float(time)].append((int(n), float(m)))
     return dict(sorted(out.items()))
 
 

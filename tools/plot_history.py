@@ -13,21 +13,22 @@ matplotlib.use("Agg")  # headless: no display on build or cluster nodes
 import matplotlib.pyplot as plt
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parent / "python"))
+import spall  # noqa: E402  (tools/python/spall: the readers of spall's output)
+
 REQUIRED = ["step", "time", "dt", "kinetic_energy", "internal_energy", "total_energy",
             "momentum_x", "momentum_y", "momentum_z"]
 
 
 def read_history(path):
     """Return a dict column -> float array. Extra columns are allowed (docs/reference.md)."""
-    with open(path) as f:
-        header = f.readline().strip().split(",")
-        if not f.readline().strip():
-            raise ValueError(f"{path}: no data rows")
-    missing = [c for c in REQUIRED if c not in header]
+    table = spall.read_csv(path)
+    if len(table) == 0:
+        raise ValueError(f"{path}: no data rows")
+    missing = [c for c in REQUIRED if c not in table]
     if missing:
         raise ValueError(f"{path}: missing column(s) {', '.join(missing)}")
-    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
-    cols = {name: data[:, i] for i, name in enumerate(header)}
+    cols = {name: table[name].astype(float) for name in table}
     # A restarted run re-writes the steps after the checkpoint: keep the last row for each step.
     _, last = np.unique(cols["step"][::-1], return_index=True)
     keep = np.sort(len(cols["step"]) - 1 - last)

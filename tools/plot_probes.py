@@ -6,7 +6,6 @@ Example (Lam, Shen & Gong 2001 Fig. 3: stress history at the striker middle):
       --time-unit us --scale-stress MPa
 """
 import argparse
-import csv
 import sys
 from collections import defaultdict
 from pathlib import Path
@@ -16,6 +15,9 @@ import matplotlib
 matplotlib.use("Agg")  # headless: no display on build or cluster nodes
 import matplotlib.pyplot as plt
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent / "python"))
+import spall  # noqa: E402  (tools/python/spall: the readers of spall's output)
 
 TIME_UNITS = {"s": 1.0, "ms": 1e3, "us": 1e6}
 STRESS_UNITS = {"Pa": 1.0, "kPa": 1e-3, "MPa": 1e-6, "GPa": 1e-9}
@@ -38,16 +40,14 @@ def is_stress(field):
 def read_probes(path):
     """Return {(probe, field): (time array, value array)}, sorted by time."""
     series = defaultdict(list)
-    with open(path, newline="") as f:
-        reader = csv.DictReader(f)
-        missing = {"time", "probe", "field", "value"} - set(reader.fieldnames or [])
-        if missing:
-            raise ValueError(f"{path}: missing column(s) {', '.join(sorted(missing))}")
-        for n, row in enumerate(reader, start=2):
-            try:
-                series[row["probe"], row["field"]].append((float(row["time"]), float(row["value"])))
-            except (TypeError, ValueError):
-                raise ValueError(f"{path}:{n}: malformed row {row}")
+    t = spall.read_csv(path)  # ValueError naming the line of a malformed row
+    missing = {"time", "probe", "field", "value"} - set(t.names())
+    if missing:
+        raise ValueError(f"{path}: missing column(s) {', '.join(sorted(missing))}")
+    if t["time"].dtype.kind not in "fi" or (len(t) and t["value"].dtype.kind not in "fi"):
+        raise ValueError(f"{path}: a time or value that is not a number")
+    for time, probe, field, value in zip(t["time"], t["probe"], t["field"], t["value"]):
+        series[str(probe), str(field)].append((float(time), float(value)))
     out = {}
     for key, samples in series.items():
         a = np.array(sorted(samples))  # rank 0 may gather samples out of order

@@ -6,7 +6,8 @@ import os
 import sys
 
 from paraview.simple import (Clip, GetColorTransferFunction, GetScalarBar, LoadPalette, Render,
-                             SaveScreenshot, CreateView, Show, ColorBy, Text, XDMFReader)
+                             SaveScreenshot, CreateView, Show, ColorBy, Text, XDMFReader,
+                             ExtractSurface, Transform, RotationalExtrusion)
 
 
 def parse_args():
@@ -26,6 +27,12 @@ def parse_args():
                    help="3D only: cut away the half of the particles on the camera's side of the "
                         "plane through the centre normal to this axis, so that the inside shows "
                         "(default y; 'none' shows the outside of the cloud)")
+    p.add_argument("--revolve", type=float, metavar="DEGREES",
+                   help="an rz run: sweep its (r, z) points about the axis through this angle "
+                        "(e.g. 270 for a cut-away view, 360 for the whole body) and draw the "
+                        "3D body")
+    p.add_argument("--segments", type=int, default=48,
+                   help="with --revolve: copies of each particle around the sweep (default 48)")
     p.add_argument("--range", type=float, nargs=2, metavar=("MIN", "MAX"),
                    help="colour range (default: the data range of the snapshot shown)")
     p.add_argument("--out", required=True, help="PNG file to write")
@@ -45,7 +52,7 @@ def main():
         usage_error("--size must be WxH, e.g. 1200x800, not '%s'" % a.size)
     if not os.path.isfile(a.xmf):
         usage_error("no such file: %s" % a.xmf)
-    # The XDMF 2 reader: the Xdmf3 readers cannot read the 1D X_Y_Z geometry spall writes.
+    # The XDMF reader of ParaView's (Xdmf3ReaderS reads the files too: tests/cli/test_snapshot_readers.py).
     reader = XDMFReader(FileNames=[a.xmf])
     times = list(reader.TimestepValues) if reader.TimestepValues else [0.0]
     if a.last:
@@ -65,15 +72,32 @@ def main():
     # through a cut: a cloud of points otherwise only shows its outside.
     b = reader.GetDataInformation().GetBounds()
     flat = b[5] - b[4] <= 0.0
+    data = reader
+    if a.revolve is not None:
+        if not flat or not 0 < a.revolve <= 360 or a.segments < 2:
+            usage_error("--revolve takes an rz snapshot's (r, z) points, an angle in (0, 360] "
+                        "and --segments >= 2")
+        # rz's axis is y (x = r); ParaView sweeps about z: turn y into z, then sweep. Each
+        # particle becomes a ring of segments + 1 points carrying its fields.
+        surface = ExtractSurface(Input=reader)
+        turned = Transform(Input=surface)
+        turned.Transform.Rotate = [90.0, 0.0, 0.0]
+        data = RotationalExtrusion(Input=turned)
+        data.Resolution = a.segments
+        data.Angle = a.revolve
+        data.Capping = 0
+        data.UpdatePipeline(t)
+        b = data.GetDataInformation().GetBounds()
+        flat = False
     centre = [(b[0] + b[1]) / 2, (b[2] + b[3]) / 2, (b[4] + b[5]) / 2]
-    source = reader
-    if not flat and a.clip != "none":
+    source = data
+    if not flat and a.clip != "none" and a.revolve is None:
         axis = "xyz".index(a.clip)
         towards_camera = [1.0, -1.0, 1.0][axis]
         normal = [towards_camera if k == axis else 0.0 for k in range(3)]
         # A hair towards the camera, so that a layer of particles on the centre plane stays.
         shift = 1e-6 * (b[2 * axis + 1] - b[2 * axis])
-        source = Clip(Input=reader)
+        source = Clip(Input=data)
         source.ClipType = "Plane"
         source.ClipType.Origin = [c + shift * n for c, n in zip(centre, normal)]
         source.ClipType.Normal = normal
@@ -92,7 +116,7 @@ def main():
     else:
         # Points of a few pixels leave the far particles showing through the near ones, so
         # the cut face is unreadable: draw spheres of half the mean spacing instead.
-        n = max(reader.GetDataInformation().GetNumberOfPoints(), 1)
+        n = max(data.GetDataInformation().GetNumberOfPoints(), 1)
         volume = max((b[1] - b[0]) * (b[3] - b[2]) * (b[5] - b[4]), 0.0)
         disp.SetRepresentationType("Point Gaussian")
         disp.ShaderPreset = "Sphere"
@@ -122,7 +146,7 @@ def main():
     else:
         # Mostly face on to the cut (if any), a little from the (+x, -y, +z) corner.
         direction = [1.0, -1.0, 0.8]
-        if a.clip != "none":
+        if a.clip != "none" and a.revolve is None:
             axis = "xyz".index(a.clip)
             direction = [d if k == axis else 0.4 * d for k, d in enumerate(direction)]
         view.CameraPosition = [c + d for c, d in zip(centre, direction)]

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -158,9 +159,11 @@ void removeSnapshotsFrom(const fs::path& snapshotDir, int first) {
   for (const auto& e : fs::directory_iterator(snapshotDir, ec)) {
     const std::string name = e.path().filename().string();
     if (name.rfind("snap_", 0) != 0) continue;
-    const auto dot = name.find('.');
-    const std::string digits = name.substr(5, dot == std::string::npos ? dot : dot - 5);
-    if (digits.empty() || !std::all_of(digits.begin(), digits.end(), ::isdigit)) continue;
+    // snap_NNNNNN.h5, .xmf, _grid.xmf (and their .tmp)
+    std::size_t end = 5;
+    while (end < name.size() && std::isdigit(static_cast<unsigned char>(name[end]))) ++end;
+    const std::string digits = name.substr(5, end - 5);
+    if (digits.empty() || (end < name.size() && name[end] != '.' && name[end] != '_')) continue;
     if (std::atoi(digits.c_str()) >= first || name.ends_with(".tmp")) fs::remove(e.path(), ec);
   }
 }

@@ -34,9 +34,9 @@ std::vector<io::FTableRow> fromSnapshots(const fs::path& dir, std::uint64_t part
     const std::size_t i = static_cast<std::size_t>(it - d.id.begin());
     io::FTableRow row;
     row.t = d.time;
-    // The snapshot holds the store's column-major 3 x 3: F(a, b) at 3 b + a.
+    // The reader gives tensors row-major: F(a, b) at 3 a + b.
     for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) row.F(a, b) = F->second[9 * i + 3 * b + a];
+      for (int b = 0; b < 3; ++b) row.F(a, b) = F->second[9 * i + 3 * a + b];
     rows.push_back(row);
   }
   return rows;

@@ -18,8 +18,8 @@ namespace {
 // Refuses to touch a directory that holds results, unless asked to; with --overwrite, removes
 // only what a run writes there. A restart continues the results in place.
 void prepareOutputDirectory(const fs::path& dir, const RunOptions& options) {
-  static const char* ours[] = {"deck.toml",    "history.csv", "probes.csv",
-                               "summary.json", "snapshots",   "checkpoints"};
+  static const char* ours[] = {"deck.toml", "history.csv", "probes.csv", "summary.json",
+                               "run.log",   "snapshots",   "checkpoints"};
   if (!fs::exists(dir)) return;
   if (!fs::is_directory(dir))
     throw UsageError(fmt::format("output path '{}' exists and is not a directory", dir.string()));

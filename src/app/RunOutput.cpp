@@ -3,6 +3,7 @@
 #include "spall/app/Setup.hpp"
 #include "spall/app/StopSignals.hpp"
 #include "spall/app/SystemInfo.hpp"
+#include "spall/io/FieldUnits.hpp"
 #include "spall/io/Snapshot.hpp"
 #include "spall/io/Xdmf.hpp"
 
@@ -80,7 +81,8 @@ template <int Dim> void Simulation<Dim>::openLogs(const fs::path& dir, bool resu
   if (mpi_.root()) {
     fs::create_directories(dir / "snapshots");
     fs::create_directories(dir / "checkpoints");
-    std::ofstream(dir / "deck.toml") << deck_.resolved_toml;
+    log.attach((dir / "run.log").string());
+    std::ofstream(dir / "deck.toml") << deckAsRun(deck_, dir.string());
     std::string historyHeader;
     for (const auto& [name, value] : historyColumns({}))
       historyHeader += (historyHeader.empty() ? "" : ",") + std::string(name);
@@ -91,7 +93,7 @@ template <int Dim> void Simulation<Dim>::openLogs(const fs::path& dir, bool resu
       truncateProbes(dir / "fragments.csv", time_); // rows start with the time too
       truncateProbes(dir / "penetration.csv", time_);
       removeSnapshotsFrom(dir / "snapshots", snapshotIndex_);
-      io::writeSeriesXdmf((dir / "snapshots" / "series.xmf").string(), series_);
+      writeSeries(dir / "snapshots");
       removeStaleTemporaries(dir / "checkpoints");
       history_ = io::CsvLog::append((dir / "history.csv").string(), historyHeader);
       if (!probes_->empty())
@@ -225,26 +227,51 @@ template <int Dim> void Simulation<Dim>::writeSnapshot(bool write) {
       }
       infos.push_back(fields.back().info);
     }
+    const bool rz = deck_.run.geometry == Geometry::RZ;
+    for (auto& f : fields) f.unit = io::fieldUnit(f.info.name, Dim, rz);
     std::vector<io::SnapshotGroup> groups{{"particles", n, fields}};
-    std::vector<io::XdmfPoints> sets{{"particles", mpi_.sum(static_cast<std::uint64_t>(n)), infos}};
+    const io::XdmfPoints particles{"particles", mpi_.sum(static_cast<std::uint64_t>(n)), infos};
     // The grid's nodes as a second group of rows.
     std::vector<io::SnapshotField> gridFields;
     std::vector<FieldInfo> gridInfos;
     if (deck_.output.grid) {
       gridFields = gridSnapshotFields(grid);
-      for (const auto& g : gridFields) gridInfos.push_back(g.info);
+      for (auto& g : gridFields) {
+        g.unit = io::fieldUnit(g.info.name, Dim, rz);
+        gridInfos.push_back(g.info);
+      }
       groups.push_back({"grid", grid.size(), gridFields});
-      sets.push_back({"grid", mpi_.sum(static_cast<std::uint64_t>(grid.size())), gridInfos});
     }
+    io::SnapshotAttributes attrs{
+        time_, step_, Dim, BuildInfo::version(), io::geometryName(Dim, rz), io::axesName(Dim, rz),
+        {},    {}};
+    for (const auto& m : deck_.materials) attrs.materialNames.push_back(m.name);
+    for (const auto& b : deck_.bodies) attrs.bodyNames.push_back(b.name);
     const std::string base = fmt::format("snap_{:06d}", snapshotIndex_);
     const fs::path snapDir = dir_ / "snapshots";
-    io::writeSnapshot(mpi_.comm(), (snapDir / (base + ".h5")).string(),
-                      {time_, step_, Dim, BuildInfo::version()}, groups);
-    if (mpi_.root())
-      io::writeSnapshotXdmf((snapDir / (base + ".xmf")).string(), base + ".h5", time_, Dim, sets);
+    io::writeSnapshot(mpi_.comm(), (snapDir / (base + ".h5")).string(), attrs, groups);
+    const std::uint64_t nodes =
+        deck_.output.grid ? mpi_.sum(static_cast<std::uint64_t>(grid.size())) : 0; // collective
+    if (mpi_.root()) {
+      io::writeSnapshotXdmf((snapDir / (base + ".xmf")).string(), base + ".h5", Dim, particles);
+      if (deck_.output.grid)
+        io::writeSnapshotXdmf((snapDir / (base + "_grid.xmf")).string(), base + ".h5", Dim,
+                              {"grid", nodes, gridInfos});
+    }
     advanceSnapshotClock(base);
-    if (mpi_.root()) io::writeSeriesXdmf((snapDir / "series.xmf").string(), series_);
+    if (mpi_.root()) writeSeries(snapDir);
   });
+}
+
+// series.xmf (the particles) and, with output.grid, series_grid.xmf (the nodes) over the
+// snapshots this directory holds.
+template <int Dim> void Simulation<Dim>::writeSeries(const fs::path& snapDir) const {
+  io::writeSeriesXdmf((snapDir / "series.xmf").string(), series_);
+  if (!deck_.output.grid) return;
+  auto nodes = series_;
+  for (auto& [t, file] : nodes) file.replace(file.size() - 4, 4, "_grid.xmf");
+  std::erase_if(nodes, [&](const auto& s) { return !fs::exists(snapDir / s.second); });
+  io::writeSeriesXdmf((snapDir / "series_grid.xmf").string(), nodes);
 }
 
 // Friends of friends now: the `fragment` field of the snapshot about to be written, and the

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 // The closing summary of a run: the lines a user reads and summary.json for tools.
 namespace spall::app {
@@ -28,40 +29,18 @@ std::string resumeCommand(const RunOptions& o) {
   return cmd + " --restart latest";
 }
 
-// A JSON object whose members keep the order they were added in; values are rendered by the
-// caller (numbers in the precision each one needs).
-class JsonObject {
-public:
-  JsonObject& value(const std::string& key, std::string rendered) {
-    members_.emplace_back(key, std::move(rendered));
-    return *this;
-  }
-  JsonObject& text(const std::string& key, const std::string& s) {
-    std::string q = "\"";
-    for (char c : s) {
-      if (c == '"' || c == '\\') q += '\\';
-      q += c;
-    }
-    return value(key, q + "\"");
-  }
-  // A nested object, written on one line.
-  JsonObject& object(const std::string& key, const JsonObject& o) {
-    return value(key, o.str(false));
-  }
-  std::string str(bool multiline) const {
-    std::string out = "{";
-    for (std::size_t k = 0; k < members_.size(); ++k)
-      out += fmt::format("{}{}\"{}\": {}", k ? "," : "", multiline ? "\n  " : (k ? " " : ""),
-                         members_[k].first, members_[k].second);
-    return out + (multiline ? "\n}\n" : "}");
-  }
+using Json = nlohmann::ordered_json; // members in the order written
 
-private:
-  std::vector<std::pair<std::string, std::string>> members_;
-};
-
-std::string fixed6(double v) {
-  return fmt::format("{:.6f}", v);
+// Seconds and ratios to a microsecond: more digits are noise between runs.
+double round6(double v) {
+  return std::isfinite(v) ? std::round(v * 1e6) / 1e6 : v;
+}
+double round1(double v) {
+  return std::round(v * 10.0) / 10.0;
+}
+// NaN and infinities are not JSON: null.
+Json number(double v) {
+  return std::isfinite(v) ? Json(v) : Json(nullptr);
 }
 
 } // namespace
@@ -211,76 +190,107 @@ Simulation<Dim>::summaryLines(const RunReport& r, const RunOptions& options, int
   return lines;
 }
 
-// summary.json (rank 0).
+// What every summary.json starts with, a failed run's too.
+template <int Dim> Json Simulation<Dim>::summaryHead(const RunOptions& options) const {
+  Json j;
+  j["deck"] = options.deckPath;
+  j["title"] = deck_.run.title;
+  j["spall_version"] = BuildInfo::version();
+  j["git_revision"] = BuildInfo::gitRevision();
+  j["command_line"] = options.commandLine;
+  j["output"] = dir_.string();
+  j["ranks"] = mpi_.size();
+  j["threads_per_rank"] = threadCount();
+  j["dimension"] = Dim;
+  j["particles"] = particles();
+  j["steps"] = step_;
+  j["time"] = time_;
+  return j;
+}
+
+// summary.json (rank 0), through nlohmann's writer: any title or path is valid JSON (UTF-8 kept;
+// bytes that are not UTF-8 are replaced rather than refused).
+template <int Dim> void Simulation<Dim>::writeSummaryFile(const Json& j) const {
+  const fs::path tmp = dir_ / "summary.json.tmp";
+  {
+    std::ofstream out(tmp);
+    out << j.dump(2, ' ', false, Json::error_handler_t::replace) << "\n";
+    if (!out) throw RunError("cannot write " + tmp.string());
+  }
+  fs::rename(tmp, dir_ / "summary.json");
+}
+
+// A failed run's summary.json: its status and the failure's message, where it stopped.
+template <int Dim>
+void Simulation<Dim>::writeFailureSummary(const RunOptions& options,
+                                          const std::string& message) const {
+  Json j = summaryHead(options);
+  j["status"] = "failed";
+  j["failure"] = message;
+  j["wall_seconds"] = round6(std::chrono::duration<double>(Clock::now() - runStart_).count());
+  writeSummaryFile(j);
+}
+
 template <int Dim>
 void Simulation<Dim>::writeSummary(const RunReport& r, const RunOptions& options,
                                    int stopSignal) const {
   const auto& st = method_->stats();
   const auto& phases = st.phases;
-  JsonObject memoryParts;
-  for (const auto& [name, b] : r.memory) memoryParts.value(name, fmt::format("{:.1f}", b));
-  memoryParts.value("accounted", fmt::format("{:.1f}", r.accounted));
-  JsonObject phaseSeconds;
+  Json memoryParts = Json::object();
+  for (const auto& [name, b] : r.memory) memoryParts[name] = round1(b);
+  memoryParts["accounted"] = round1(r.accounted);
+  Json phaseSeconds = Json::object();
   for (int p = 0; p < methods::kPhaseCount; ++p)
-    phaseSeconds.value(methods::kPhaseNames[p], fixed6(phases[static_cast<methods::Phase>(p)]));
-  phaseSeconds.value("other", fixed6(std::max(0.0, r.wall - phases.total())));
-  JsonObject checkpoint;
-  checkpoint.value("written", fmt::format("{}", checkpointsWritten_))
-      .value("bytes", fmt::format("{}", checkpointBytes_))
-      .value("bytes_per_particle",
-             fmt::format("{:.1f}", static_cast<double>(checkpointBytes_) /
-                                       std::max<double>(1.0, static_cast<double>(particles()))))
-      .value("write_seconds", fixed6(checkpointWriteSeconds_))
-      .value("write_bytes", fmt::format("{}", checkpointWriteBytes_))
-      .value("read_seconds", fixed6(checkpointReadSeconds_))
-      .value("read_bytes", fmt::format("{}", checkpointReadBytes_))
-      .text("restarted_from", resumedFrom_)
-      .value("ranks_written", fmt::format("{}", checkpointRanks_));
-  JsonObject decomposition;
-  decomposition.text("curve", std::string(kCurveNames(deck_.decomposition.curve)))
-      .text("partitioner", std::string(kPartitionerNames(deck_.decomposition.partitioner)))
-      .value("rebalances", fmt::format("{}", st.rebalances))
-      .value("imbalance", fixed6(st.imbalance))
-      .value("ghost_fraction_max", fixed6(r.ghostFraction))
-      .value("migrated", fmt::format("{}", st.migratedTotal))
-      .value("max_rank_distance", fmt::format("{}", st.maxRankDistance))
-      .value("pairs_across_ranks", fmt::format("{}", r.crossPairs))
-      .value("metis_edge_cut", fmt::format("{}", st.metisEdgeCut))
-      .value("reproducible", deck_.decomposition.reproducible ? "true" : "false");
-  JsonObject conservation;
-  conservation.value("mass_relative", fmt::format("{:.6e}", r.massErr))
-      .value("momentum_relative", std::isnan(r.momErr) ? "null" : fmt::format("{:.6e}", r.momErr))
-      .value("energy_relative", fmt::format("{:.6e}", r.energyErr));
-  JsonObject summary;
-  summary.text("deck", options.deckPath)
-      .text("title", deck_.run.title)
-      .value("ranks", fmt::format("{}", mpi_.size()))
-      .value("threads_per_rank", fmt::format("{}", threadCount()))
-      .value("dimension", fmt::format("{}", Dim))
-      .value("particles", fmt::format("{}", particles()))
-      .value("steps", fmt::format("{}", step_))
-      .value("time", fmt::format("{:.17g}", time_))
-      .value("wall_seconds", fixed6(r.wall))
-      .value("particle_steps_per_second", fmt::format("{:.6g}", r.rate))
-      .value("particle_steps_per_second_per_core", fmt::format("{:.6g}", r.rate / cores()))
-      .text("status", stopSignal ? "stopped" : "finished")
-      .value("steps_this_run", fmt::format("{}", r.steps))
-      .value("mean_neighbors", fmt::format("{:.3f}", r.meanNeighbors))
-      .value("neighbor_searches", fmt::format("{}", st.listBuilds))
-      .value("evaluations", fmt::format("{}", st.evaluations))
-      .value("peak_rss_bytes", fmt::format("{}", r.peak))
-      .value("baseline_rss_bytes", fmt::format("{}", r.base))
-      .value("bytes_per_particle",
-             fmt::format("{:.1f}", particles() > 0
-                                       ? static_cast<double>(r.peak - std::min(r.peak, r.base)) /
-                                             static_cast<double>(particles())
-                                       : 0.0))
-      .object("memory_parts", memoryParts)
-      .object("phases", phaseSeconds)
-      .object("checkpoint", checkpoint)
-      .object("decomposition", decomposition)
-      .object("conservation", conservation);
-  std::ofstream(dir_ / "summary.json") << summary.str(true);
+    phaseSeconds[methods::kPhaseNames[p]] = round6(phases[static_cast<methods::Phase>(p)]);
+  phaseSeconds["other"] = round6(std::max(0.0, r.wall - phases.total()));
+  Json checkpoint;
+  checkpoint["written"] = checkpointsWritten_;
+  checkpoint["bytes"] = checkpointBytes_;
+  checkpoint["bytes_per_particle"] =
+      round1(static_cast<double>(checkpointBytes_) /
+             std::max<double>(1.0, static_cast<double>(particles())));
+  checkpoint["write_seconds"] = round6(checkpointWriteSeconds_);
+  checkpoint["write_bytes"] = checkpointWriteBytes_;
+  checkpoint["read_seconds"] = round6(checkpointReadSeconds_);
+  checkpoint["read_bytes"] = checkpointReadBytes_;
+  checkpoint["restarted_from"] = resumedFrom_;
+  checkpoint["ranks_written"] = checkpointRanks_;
+  Json decomposition;
+  decomposition["curve"] = std::string(kCurveNames(deck_.decomposition.curve));
+  decomposition["partitioner"] = std::string(kPartitionerNames(deck_.decomposition.partitioner));
+  decomposition["rebalances"] = st.rebalances;
+  decomposition["imbalance"] = round6(st.imbalance);
+  decomposition["ghost_fraction_max"] = round6(r.ghostFraction);
+  decomposition["migrated"] = st.migratedTotal;
+  decomposition["max_rank_distance"] = st.maxRankDistance;
+  decomposition["pairs_across_ranks"] = r.crossPairs;
+  decomposition["metis_edge_cut"] = st.metisEdgeCut;
+  decomposition["reproducible"] = deck_.decomposition.reproducible;
+  Json conservation;
+  conservation["mass_relative"] = number(r.massErr);
+  conservation["momentum_relative"] = number(r.momErr);
+  conservation["energy_relative"] = number(r.energyErr);
+  Json j = summaryHead(options);
+  j["wall_seconds"] = round6(r.wall);
+  j["particle_steps_per_second"] = number(r.rate);
+  j["particle_steps_per_second_per_core"] = number(r.rate / cores());
+  j["status"] = stopSignal ? "stopped" : "finished";
+  j["steps_this_run"] = r.steps;
+  j["mean_neighbors"] = number(std::round(r.meanNeighbors * 1e3) / 1e3);
+  j["neighbor_searches"] = st.listBuilds;
+  j["evaluations"] = st.evaluations;
+  j["peak_rss_bytes"] = r.peak;
+  j["baseline_rss_bytes"] = r.base;
+  j["bytes_per_particle"] =
+      round1(particles() > 0 ? static_cast<double>(r.peak - std::min(r.peak, r.base)) /
+                                   static_cast<double>(particles())
+                             : 0.0);
+  j["memory_parts"] = memoryParts;
+  j["phases"] = phaseSeconds;
+  j["checkpoint"] = checkpoint;
+  j["decomposition"] = decomposition;
+  j["conservation"] = conservation;
+  writeSummaryFile(j);
 }
 
 template class Simulation<1>;

@@ -314,8 +314,25 @@ void Simulation<Dim>::restoreState(const io::CheckpointHeader& h, bool sameLayou
 // ---- the run loop: time, output and checkpoint triggers, signals ----------------------------
 
 template <int Dim> void Simulation<Dim>::run(const RunOptions& options, const fs::path& dir) {
+  runStart_ = Clock::now();
+  try {
+    runSteps(options, dir);
+  } catch (const RunError& e) {
+    // Best effort: the failure's own message stands whatever happens here.
+    if (mpi_.root() && !dir_.empty() && fs::is_directory(dir_)) {
+      try {
+        writeFailureSummary(options, e.what());
+        std::ofstream(dir_ / "run.log", std::ios::app) << "error: " << e.what() << "\n";
+      } catch (const std::exception&) {
+      }
+    }
+    throw;
+  }
+}
+
+template <int Dim> void Simulation<Dim>::runSteps(const RunOptions& options, const fs::path& dir) {
   RunLog log(mpi_.root() && !options.quiet, deck_.output.progress_seconds,
-             deck_.output.progress_percent);
+             deck_.output.progress_percent, mpi_.root());
   log_ = &log;
   const auto wall0 = Clock::now();
   for (const auto& w : deferredWarnings_) log.warning(w);

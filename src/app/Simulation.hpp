@@ -26,6 +26,7 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <utility>
 #include <vector>
@@ -44,6 +45,7 @@ public:
   // A continued run: the first of `candidates` that reads back completely. Throws
   // CheckpointError when none does, UsageError when the checkpoint belongs to another deck.
   void resume(const RestartCandidates& candidates);
+  // A run that fails (RunError) leaves a summary.json saying so, then rethrows.
   void run(const RunOptions& options, const std::filesystem::path& dir);
   // After generate or resume, before anything is written: the recorded particles exist (else a
   // DeckError).
@@ -99,6 +101,7 @@ private:
   void resolveOutputFields();
   bool snapshotDue() const;
   void writeSnapshot(bool write = true);
+  void writeSeries(const std::filesystem::path& snapDir) const;
   void writeFragments();
   void writePenetration();
   void advanceSnapshotClock(const std::string& base);
@@ -112,6 +115,10 @@ private:
   std::vector<std::string> summaryLines(const RunReport& r, const RunOptions& options,
                                         int stopSignal) const;
   void writeSummary(const RunReport& r, const RunOptions& options, int stopSignal) const;
+  nlohmann::ordered_json summaryHead(const RunOptions& options) const;
+  void writeSummaryFile(const nlohmann::ordered_json& j) const;
+  void writeFailureSummary(const RunOptions& options, const std::string& message) const;
+  void runSteps(const RunOptions& options, const std::filesystem::path& dir);
 
   const Deck& deck_;
   const parallel::MpiContext& mpi_;
@@ -148,6 +155,7 @@ private:
   std::int64_t startStep_ = 0; // first step of this job
   std::int64_t lastCheckpointStep_ = -1;
   Clock::time_point lastCheckpointWall_;
+  Clock::time_point runStart_ = Clock::now();
   int checkpointsWritten_ = 0, checkpointRanks_ = 0;
   std::uint64_t checkpointBytes_ = 0, checkpointWriteBytes_ = 0, checkpointReadBytes_ = 0;
   double checkpointWriteSeconds_ = 0.0, checkpointReadSeconds_ = 0.0;

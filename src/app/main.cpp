@@ -40,6 +40,7 @@ int main(int argc, char** argv) {
   cli.require_subcommand(1);
 
   spall::app::RunOptions run;
+  run.commandLine.assign(argv, argv + argc);
   std::string outputDir, restart;
   auto* runCmd = cli.add_subcommand("run", "run a deck");
   runCmd->add_option("deck", run.deckPath, "deck file (TOML)")->required();

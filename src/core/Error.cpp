@@ -2,13 +2,22 @@
 
 namespace spall {
 
+namespace {
+std::string position(const SourceLocation& where) {
+  std::string s = where.file.empty() ? std::string("deck") : where.file;
+  if (where.line > 0)
+    s += ":" + std::to_string(where.line) + ":" +
+         std::to_string(where.column > 0 ? where.column : 1);
+  return s;
+}
+} // namespace
+
+std::string DeckWarning::formatted() const {
+  return position(where) + ": warning: " + message;
+}
+
 std::string DeckError::formatted() const {
-  std::string s = where_.file.empty() ? std::string("deck") : where_.file;
-  if (where_.line > 0) {
-    s += ":" + std::to_string(where_.line) + ":" +
-         std::to_string(where_.column > 0 ? where_.column : 1);
-  }
-  return s + ": error: " + what();
+  return position(where_) + ": error: " + what();
 }
 
 } // namespace spall

@@ -18,6 +18,7 @@ namespace spall {
 namespace {
 
 using io::deck_detail::Context;
+using io::deck_detail::DeckNotes;
 using io::deck_detail::Names;
 using io::deck_detail::TableReader;
 namespace dd = io::deck_detail;
@@ -49,11 +50,14 @@ double determinant(const std::vector<std::vector<double>>& m) {
 
 class DeckReader {
 public:
-  DeckReader(const toml::table& root, const std::string& path) : root_(root), path_(path) {}
+  DeckReader(const toml::table& root, const std::string& path, DeckNotes& notes)
+      : root_(root), path_(path), notes_(notes) {}
   void read(Deck& deck);
 
 private:
-  TableReader reader(const toml::table& t, Context c) const { return {t, std::move(c), path_}; }
+  TableReader reader(const toml::table& t, Context c) const {
+    return {t, std::move(c), path_, &notes_};
+  }
   std::string readName(const TableReader& r, std::string_view kind,
                        std::map<std::string, SourceLocation>& seen) const;
 
@@ -70,13 +74,14 @@ private:
 
   const toml::table& root_;
   const std::string& path_;
+  DeckNotes& notes_;
   std::size_t dimension_ = 0;
   std::vector<std::string> jetNames_; // [[jet]] names: a penetrator may name a whole jet
   bool rz_ = false;                   // run.geometry = "rz"
 };
 
 void DeckReader::read(Deck& deck) {
-  const TableReader top(root_, Context{}, path_);
+  const TableReader top(root_, Context{}, path_, &notes_);
   top.allowOnly(*dd::schemaKeys(""));
   const SourceLocation start{path_, 1, 1}; // where a missing top-level table is reported
 
@@ -286,8 +291,13 @@ void DeckReader::readPenetration(const TableReader& r, PenetrationConfig& c,
                             r.quoted("direction") + " must be [0, 1] or [0, -1]");
 }
 
-std::string resolvedText(const toml::table& root, const std::string& path,
+std::string resolvedText(toml::table root, const std::string& path,
                          const std::vector<std::string>& overrides) {
+  // A jet's rows are inline (inlineJetFiles): its file, relative to this deck, would not be found
+  // from where the deck as run is read again.
+  if (toml::array* jets = root["jet"].as_array())
+    for (auto& node : *jets)
+      if (toml::table* t = node.as_table()) t->erase("file");
   std::ostringstream os;
   os << "# resolved deck of " << path;
   if (overrides.empty())
@@ -300,7 +310,10 @@ std::string resolvedText(const toml::table& root, const std::string& path,
       if (c == '\n' || c == '\r') c = ' ';
     os << " --set " << flat;
   }
-  os << "\n" << root << "\n";
+  os << "\n# every default the reader applied is written out\n";
+  std::ostringstream body;
+  body << root << "\n";
+  os << dd::shortestFloats(body.str());
   return os.str();
 }
 
@@ -321,9 +334,32 @@ Deck loadDeck(const std::string& path, const std::vector<std::string>& overrides
 
   Deck deck;
   deck.path = path;
+  DeckNotes notes;
+  DeckReader(root, path, notes).read(deck);
+  try {
+    dd::applyOverrides(root, notes.defaults, path);
+  } catch (const DeckError& e) {
+    throw std::logic_error("internal: a default the deck reader applied cannot be written back: " +
+                           e.formatted());
+  }
   deck.resolved_toml = resolvedText(root, path, overrides);
-  DeckReader(root, path).read(deck);
+  deck.warnings = std::move(notes.warnings);
   return deck;
+}
+
+std::string deckAsRun(const Deck& deck, const std::string& outputDir) {
+  toml::table root =
+      toml::parse(std::string_view(deck.resolved_toml), std::string_view("deck as run"));
+  // The leading comment lines say what the deck was resolved from; the parse drops them.
+  std::string comments;
+  std::istringstream lines(deck.resolved_toml);
+  for (std::string l; std::getline(lines, l) && l.starts_with("#");) comments += l + "\n";
+  toml::table* output = root["output"].as_table();
+  if (!output) output = root.insert_or_assign("output", toml::table{}).first->second.as_table();
+  output->insert_or_assign("directory", outputDir);
+  std::ostringstream body;
+  body << root << "\n";
+  return comments + "# run with its output in " + outputDir + "\n" + dd::shortestFloats(body.str());
 }
 
 } // namespace spall

@@ -60,20 +60,39 @@ struct Context {
 std::string unknownKeyMessage(std::string_view key, const Context& context, const Names& known,
                               const std::string& hint = {});
 
+// TOML text with each float written in the fewest digits that read back as the same double
+// (toml++ prints 17: "6.9999999999999994e-05" becomes "7e-05"). Strings, comments and keys are
+// left as they are.
+std::string shortestFloats(std::string_view text);
+
 // Applies `--set KEY=VALUE` overrides in order (see Deck.hpp); throws DeckError.
 void applyOverrides(toml::table& root, const std::vector<std::string>& overrides,
                     const std::string& deckPath);
+
+// What reading a deck finds besides its values, collected across its tables: the defaults it
+// applied to keys the deck leaves out (as `--set` takes them, "solver.cfl=0.25": the deck as run
+// writes them explicitly) and its plausibility warnings.
+struct DeckNotes {
+  std::vector<std::string> defaults;
+  std::vector<DeckWarning> warnings;
+};
 
 // Typed, checked reads from one table. Every failure is a DeckError at the offending value, or at
 // the table itself for a missing key.
 class TableReader {
 public:
-  TableReader(const toml::table& table, Context context, const std::string& deckPath)
-      : table_(table), context_(std::move(context)), deckPath_(deckPath) {}
+  TableReader(const toml::table& table, Context context, const std::string& deckPath,
+              DeckNotes* notes = nullptr)
+      : table_(table), context_(std::move(context)), deckPath_(deckPath), notes_(notes) {}
 
   const toml::table& table() const { return table_; }
   const Context& context() const { return context_; }
   const std::string& deckPath() const { return deckPath_; }
+  DeckNotes* notes() const { return notes_; }
+  // A default applied to the absent `key`, `toml` its value as TOML ("0.25", "\"auto\"").
+  void noteDefault(std::string_view key, const std::string& toml) const;
+  // A plausibility warning at the key's value (or the table, if absent).
+  void warn(std::string_view key, const std::string& message) const;
   SourceLocation where() const;                          // the table's own position
   SourceLocation whereValue(std::string_view key) const; // the value's, or the table's if absent
   SourceLocation whereNode(const toml::node& node) const;
@@ -123,6 +142,7 @@ private:
   const toml::table& table_;
   Context context_;
   const std::string& deckPath_;
+  DeckNotes* notes_;
 };
 
 // The index of the [[material]] named by the table's 'material' key (else a DeckError there).

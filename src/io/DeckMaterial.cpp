@@ -10,7 +10,7 @@ namespace {
 
 // The reader of a table inside r's.
 TableReader child(const TableReader& r, const toml::table& t, Context c) {
-  return {t, std::move(c), r.deckPath()};
+  return {t, std::move(c), r.deckPath(), r.notes()};
 }
 
 // A typed table's type: one of the types its key table lists (required), the table's keys

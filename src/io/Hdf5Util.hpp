@@ -6,6 +6,7 @@
 
 #include <hdf5.h>
 
+#include <algorithm>
 #include <functional>
 #include <string>
 #include <vector>
@@ -123,6 +124,31 @@ inline void writeStringAttribute(hid_t loc, const char* name, const std::string&
   writeScalarAttribute(loc, name, type, type, value.c_str(), path);
 }
 
+// Fixed-length strings of the longest one's size, one per entry: h5py reads them as an array of
+// bytes. An empty list is a null dataspace.
+inline void writeStringArrayAttribute(hid_t loc, const char* name,
+                                      const std::vector<std::string>& values,
+                                      const std::string& path) {
+  std::size_t width = 1;
+  for (const auto& v : values) width = std::max(width, v.size() + 1);
+  std::string buf(values.size() * width, '\0');
+  for (std::size_t k = 0; k < values.size(); ++k)
+    buf.replace(k * width, values[k].size(), values[k]);
+  Handle type(H5Tcopy(H5T_C_S1), H5Tclose, path, "H5Tcopy");
+  check(H5Tset_size(type, width), path, "H5Tset_size");
+  check(H5Tset_strpad(type, H5T_STR_NULLTERM), path, "H5Tset_strpad");
+  const hsize_t n = values.size();
+  Handle space(n ? H5Screate_simple(1, &n, nullptr) : H5Screate(H5S_NULL), H5Sclose, path,
+               "H5Screate");
+  Handle attr(H5Acreate2(loc, name, type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose, path,
+              std::string("H5Acreate2(") + name + ")");
+  if (n) check(H5Awrite(attr, type, buf.data()), path, "H5Awrite");
+}
+
+inline bool hasAttribute(hid_t loc, const char* name) {
+  return H5Aexists(loc, name) > 0;
+}
+
 // The name of the i-th link of a group, in name order.
 inline std::string linkName(hid_t group, hsize_t i, const std::string& path) {
   const ssize_t len =
@@ -162,6 +188,28 @@ inline std::string readStringAttribute(hid_t loc, const char* name, const std::s
   std::string buf(H5Tget_size(type), '\0');
   check(H5Aread(attr, type, buf.data()), path, "H5Aread");
   return buf.substr(0, buf.find('\0'));
+}
+
+// A fixed-length string array attribute (writeStringArrayAttribute's).
+inline std::vector<std::string> readStringArrayAttribute(hid_t loc, const char* name,
+                                                         const std::string& path) {
+  Handle attr(H5Aopen(loc, name, H5P_DEFAULT), H5Aclose, path,
+              std::string("H5Aopen(") + name + ")");
+  Handle type(H5Aget_type(attr), H5Tclose, path, "H5Aget_type");
+  Handle space(H5Aget_space(attr), H5Sclose, path, "H5Aget_space");
+  if (H5Tget_class(type) != H5T_STRING || H5Tis_variable_str(type) > 0)
+    throw RunError(path + ": attribute '" + name + "' is not an array of fixed-length strings");
+  const hssize_t n = H5Sget_simple_extent_npoints(space);
+  if (n <= 0) return {};
+  const std::size_t width = H5Tget_size(type);
+  std::string buf(static_cast<std::size_t>(n) * width, '\0');
+  check(H5Aread(attr, type, buf.data()), path, "H5Aread");
+  std::vector<std::string> out;
+  for (hssize_t k = 0; k < n; ++k) {
+    const std::string s = buf.substr(static_cast<std::size_t>(k) * width, width);
+    out.push_back(s.substr(0, s.find('\0')));
+  }
+  return out;
 }
 
 // Creates group/NAME as [global, shape...] and writes this rank's `local` rows (`rows`, row-major)

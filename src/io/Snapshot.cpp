@@ -5,7 +5,10 @@
 
 #include <hdf5.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <utility>
 
 namespace spall::io {
@@ -19,17 +22,73 @@ using hdf5::readStringAttribute;
 using hdf5::writeScalarAttribute;
 using hdf5::writeStringAttribute;
 
+// A [n, n] double field's rows, each transposed from the store's column-major to row-major.
+void transposeRows(double* rows, std::size_t count, int n) {
+  for (std::size_t i = 0; i < count; ++i) {
+    double* T = rows + i * static_cast<std::size_t>(n * n);
+    for (int a = 0; a < n; ++a)
+      for (int b = a + 1; b < n; ++b) std::swap(T[a * n + b], T[b * n + a]);
+  }
+}
+
+bool isMatrix(const FieldInfo& info) {
+  return info.scalar == ScalarType::F64 && info.shape.size() == 2 &&
+         info.shape[0] == info.shape[1] && info.shape[0] > 1;
+}
+
 void writeField(hid_t group, hid_t dxpl, const SnapshotField& f, std::uint64_t globalCount,
                 std::uint64_t offset, std::size_t localCount, const std::string& path) {
   std::vector<std::byte> scratch;
   const void* buf = f.data;
-  if (!buf && f.fill && localCount > 0) {
+  const bool matrix = isMatrix(f.info);
+  if ((f.fill || matrix) && localCount > 0) {
     const std::size_t scalarBytes = f.info.scalar == ScalarType::I32 ? 4 : 8;
     scratch.resize(localCount * f.info.scalarsPerParticle() * scalarBytes);
-    f.fill(scratch.data());
+    if (!f.data && f.fill)
+      f.fill(scratch.data());
+    else if (f.data)
+      std::memcpy(scratch.data(), f.data, scratch.size());
+    if (matrix)
+      transposeRows(reinterpret_cast<double*>(scratch.data()), localCount, f.info.shape[0]);
     buf = scratch.data();
   }
-  hdf5::writeRows(group, dxpl, f.info, globalCount, offset, localCount, buf, path);
+  hdf5::writeRows(group, dxpl, f.info, globalCount, offset, localCount, buf, path, [&](hid_t d) {
+    if (!f.unit.empty()) writeStringAttribute(d, "units", f.unit, path);
+    if (matrix) writeStringAttribute(d, "layout", "row-major", path);
+  });
+}
+
+// What an XDMF reader needs beyond the fields of a point set (Snapshot.hpp).
+void writePointSetSupport(hid_t xdmf, hid_t dxpl, const SnapshotGroup& g, std::uint64_t globalCount,
+                          std::uint64_t offset, const std::string& path) {
+  const auto pos = std::find_if(g.fields.begin(), g.fields.end(),
+                                [](const SnapshotField& f) { return f.info.name == "position"; });
+  if (pos == g.fields.end()) return;
+  const std::size_t n = g.localCount;
+  const bool wide = globalCount > static_cast<std::uint64_t>(INT32_MAX);
+  const FieldInfo vertices{g.name + "_vertices", wide ? ScalarType::I64 : ScalarType::I32, {1}, 0};
+  std::vector<std::int32_t> v32(wide ? 0 : n);
+  std::vector<std::int64_t> v64(wide ? n : 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (wide)
+      v64[i] = static_cast<std::int64_t>(offset + i);
+    else
+      v32[i] = static_cast<std::int32_t>(offset + i);
+  }
+  hdf5::writeRows(xdmf, dxpl, vertices, globalCount, offset, n,
+                  wide ? static_cast<const void*>(v64.data()) : v32.data(), path);
+  if (pos->info.shape != std::vector<int>{1}) return;
+  std::vector<double> x(n), xyz(3 * n, 0.0);
+  if (n > 0) {
+    if (pos->data)
+      std::memcpy(x.data(), pos->data, n * sizeof(double));
+    else
+      pos->fill(x.data());
+  }
+  for (std::size_t i = 0; i < n; ++i) xyz[3 * i] = x[i];
+  const FieldInfo points{g.name + "_points", ScalarType::F64, {3}, 0};
+  hdf5::writeRows(xdmf, dxpl, points, globalCount, offset, n, xyz.data(), path,
+                  [&](hid_t d) { writeStringAttribute(d, "units", pos->unit, path); });
 }
 
 void writeFile(MPI_Comm comm, const std::string& tmp, const SnapshotAttributes& attrs,
@@ -44,9 +103,15 @@ void writeFile(MPI_Comm comm, const std::string& tmp, const SnapshotAttributes& 
   writeScalarAttribute(file, "step", H5T_STD_I64LE, H5T_NATIVE_INT64, &attrs.step, tmp);
   writeScalarAttribute(file, "dimension", H5T_STD_I32LE, H5T_NATIVE_INT, &attrs.dimension, tmp);
   writeStringAttribute(file, "spall_version", attrs.version, tmp);
+  if (!attrs.geometry.empty()) writeStringAttribute(file, "geometry", attrs.geometry, tmp);
+  if (!attrs.axes.empty()) writeStringAttribute(file, "axes", attrs.axes, tmp);
+  hdf5::writeStringArrayAttribute(file, "material_names", attrs.materialNames, tmp);
+  hdf5::writeStringArrayAttribute(file, "body_names", attrs.bodyNames, tmp);
 
   Handle dxpl(H5Pcreate(H5P_DATASET_XFER), H5Pclose, tmp, "H5Pcreate");
   check(H5Pset_dxpl_mpio(dxpl, H5FD_MPIO_COLLECTIVE), tmp, "H5Pset_dxpl_mpio");
+  Handle xdmf(H5Gcreate2(file, "xdmf", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, tmp,
+              "H5Gcreate2(xdmf)");
   for (const auto& g : groups) {
     std::uint64_t local = g.localCount, offset = 0, global = 0;
     MPI_Exscan(&local, &offset, 1, MPI_UINT64_T, MPI_SUM, comm);
@@ -56,7 +121,9 @@ void writeFile(MPI_Comm comm, const std::string& tmp, const SnapshotAttributes& 
                  tmp, ("H5Gcreate2(" + g.name + ")").c_str());
     for (const auto& f : g.fields) writeField(group, dxpl, f, global, offset, g.localCount, tmp);
     group.close(tmp, "H5Gclose");
+    writePointSetSupport(xdmf, dxpl, g, global, offset, tmp);
   }
+  xdmf.close(tmp, "H5Gclose");
   file.close(tmp, "H5Fclose");
 }
 
@@ -93,6 +160,13 @@ SnapshotData readSnapshot(const std::string& path) {
   out.step = readScalarAttribute<std::int64_t>(file, "step", H5T_NATIVE_INT64, path);
   out.dimension = readScalarAttribute<int>(file, "dimension", H5T_NATIVE_INT, path);
   out.version = readStringAttribute(file, "spall_version", path);
+  if (hdf5::hasAttribute(file, "geometry"))
+    out.geometry = readStringAttribute(file, "geometry", path);
+  if (hdf5::hasAttribute(file, "axes")) out.axes = readStringAttribute(file, "axes", path);
+  if (hdf5::hasAttribute(file, "material_names"))
+    out.materialNames = hdf5::readStringArrayAttribute(file, "material_names", path);
+  if (hdf5::hasAttribute(file, "body_names"))
+    out.bodyNames = hdf5::readStringArrayAttribute(file, "body_names", path);
 
   Handle group(H5Gopen2(file, "particles", H5P_DEFAULT), H5Gclose, path, "H5Gopen2(particles)");
   H5G_info_t info;
@@ -125,6 +199,12 @@ SnapshotData readSnapshot(const std::string& path) {
     if (n > 0)
       check(H5Dread(dset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), path,
             ("H5Dread(" + name + ")").c_str());
+    if (hdf5::hasAttribute(dset, "units"))
+      out.units[name] = readStringAttribute(dset, "units", path);
+    // Files from before the `layout` attribute hold the store's column-major tensors.
+    const FieldInfo asRead{name, ScalarType::F64, shape};
+    if (isMatrix(asRead) && !hdf5::hasAttribute(dset, "layout"))
+      transposeRows(values.data(), out.count, shape[0]);
     if (name == "id") {
       out.id.resize(n);
       if (n > 0)

@@ -5,8 +5,11 @@
 #include <algorithm>
 #include <cerrno>
 #include <charconv>
+#include <climits>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -104,67 +107,52 @@ std::string formatTime(double t) {
 // No DOCTYPE: nobody ships Xdmf.dtd beside the files, and libxml2 warns about every include.
 const char* kHeader = "<?xml version=\"1.0\" ?>\n";
 
-} // namespace
-
-void writeSnapshotXdmf(const std::string& xmfPath, const std::string& h5FileName, double time,
-                       int dimension, std::span<const XdmfPoints> sets) {
-  const bool collection = sets.size() > 1;
-  const std::string in = collection ? "   " : "  "; // a grid's indent
-  std::ostringstream x;
-  x << kHeader << "<Xdmf Version=\"2.0\">\n <Domain>\n";
-  if (collection)
-    x << "  <Grid Name=\"snapshot\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
-      << "   <Time Value=\"" << formatTime(time) << "\"/>\n";
-  for (const auto& set : sets) {
-    const auto& fields = set.fields;
-    const auto pos = std::find_if(fields.begin(), fields.end(),
-                                  [](const FieldInfo& f) { return f.name == "position"; });
-    if (pos == fields.end())
-      throw RunError("cannot describe " + h5FileName + " in XDMF: its /" + set.group +
-                     " has no position field");
-    const std::size_t count = set.globalCount;
-    const std::string n = std::to_string(count);
-    const auto item = [&](const FieldInfo& f, const std::vector<int>& shape,
-                          const std::string& indent) {
-      return hdfItem(h5FileName, set.group, f, shape, count, indent);
-    };
-    x << in << "<Grid Name=\"" << escape(set.group) << "\" GridType=\"Uniform\">\n";
-    if (!collection) x << in << " <Time Value=\"" << formatTime(time) << "\"/>\n";
-    x << in << " <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n
-      << "\" NodesPerElement=\"1\"/>\n";
-    if (dimension == 1) {
-      // XDMF has no X-only geometry. X_Y_Z takes three N-vectors: x is the position dataset and
-      // y = z = 0 * x, a Function of it, so no zeros are stored anywhere.
-      x << in << " <Geometry GeometryType=\"X_Y_Z\">\n" << item(*pos, pos->shape, in + "  ");
-      for (int k = 0; k < 2; ++k) {
-        x << in << "  <DataItem ItemType=\"Function\" Function=\"0 * $0\" Dimensions=\"" << n
-          << " 1\">\n"
-          << item(*pos, pos->shape, in + "   ") << in << "  </DataItem>\n";
-      }
-    } else {
-      x << in << " <Geometry GeometryType=\"" << (dimension == 2 ? "XY" : "XYZ") << "\">\n"
-        << item(*pos, pos->shape, in + "  ");
-    }
-    x << in << " </Geometry>\n";
-    for (const auto& f : fields) {
-      if (f.name == "position") continue; // it is the geometry
-      const XdmfShape xs = xdmfShape(f.shape);
-      x << in << " <Attribute Name=\"" << escape(f.name) << "\" AttributeType=\"" << xs.type
-        << "\" Center=\"Node\">\n"
-        << item(f, xs.dims, in + "  ") << in << " </Attribute>\n";
-    }
-    x << in << "</Grid>\n";
-  }
-  if (collection) x << "  </Grid>\n";
-  x << " </Domain>\n</Xdmf>\n";
-  writeAtomically(xmfPath, x.str());
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw RunError("cannot read " + path + ": " + std::strerror(errno));
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
 }
 
-void writeSnapshotXdmf(const std::string& xmfPath, const std::string& h5FileName, double time,
-                       std::size_t globalCount, int dimension, std::span<const FieldInfo> fields) {
-  const XdmfPoints particles{"particles", globalCount, fields};
-  writeSnapshotXdmf(xmfPath, h5FileName, time, dimension,
-                    std::span<const XdmfPoints>(&particles, 1));
+} // namespace
+
+void writeSnapshotXdmf(const std::string& xmfPath, const std::string& h5FileName, int dimension,
+                       const XdmfPoints& set) {
+  const auto& fields = set.fields;
+  const auto pos = std::find_if(fields.begin(), fields.end(),
+                                [](const FieldInfo& f) { return f.name == "position"; });
+  if (pos == fields.end())
+    throw RunError("cannot describe " + h5FileName + " in XDMF: its /" + set.group +
+                   " has no position field");
+  const std::size_t count = set.globalCount;
+  const std::string n = std::to_string(count);
+  const bool wide = count > static_cast<std::size_t>(INT32_MAX);
+  std::ostringstream x;
+  x << kHeader << "<Xdmf Version=\"3.0\">\n <Domain>\n";
+  x << "  <Grid Name=\"" << escape(set.group) << "\" GridType=\"Uniform\">\n";
+  x << "   <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n
+    << "\" NodesPerElement=\"1\">\n"
+    << "    <DataItem Dimensions=\"" << n << " 1\" NumberType=\"Int\" Precision=\""
+    << (wide ? 8 : 4) << "\" Format=\"HDF\">" << escape(h5FileName) << ":/xdmf/"
+    << escape(set.group) << "_vertices</DataItem>\n   </Topology>\n";
+  if (dimension == 1) {
+    x << "   <Geometry GeometryType=\"XYZ\">\n    <DataItem Dimensions=\"" << n
+      << " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << escape(h5FileName)
+      << ":/xdmf/" << escape(set.group) << "_points</DataItem>\n";
+  } else {
+    x << "   <Geometry GeometryType=\"" << (dimension == 2 ? "XY" : "XYZ") << "\">\n"
+      << hdfItem(h5FileName, set.group, *pos, pos->shape, count, "    ");
+  }
+  x << "   </Geometry>\n";
+  for (const auto& f : fields) {
+    const XdmfShape xs = xdmfShape(f.shape);
+    x << "   <Attribute Name=\"" << escape(f.name) << "\" AttributeType=\"" << xs.type
+      << "\" Center=\"Node\">\n"
+      << hdfItem(h5FileName, set.group, f, xs.dims, count, "    ") << "   </Attribute>\n";
+  }
+  x << "  </Grid>\n </Domain>\n</Xdmf>\n";
+  writeAtomically(xmfPath, x.str());
 }
 
 void writeSeriesXdmf(const std::string& seriesPath,
@@ -172,13 +160,26 @@ void writeSeriesXdmf(const std::string& seriesPath,
   auto sorted = snapshots;
   std::stable_sort(sorted.begin(), sorted.end(),
                    [](const auto& a, const auto& b) { return a.first < b.first; });
+  const std::filesystem::path dir = std::filesystem::path(seriesPath).parent_path();
   std::ostringstream x;
-  x << kHeader << "<Xdmf Version=\"2.0\" xmlns:xi=\"http://www.w3.org/2001/XInclude\">\n";
+  x << kHeader << "<Xdmf Version=\"3.0\">\n";
   x << " <Domain>\n  <Grid Name=\"series\" GridType=\"Collection\" "
        "CollectionType=\"Temporal\">\n";
-  for (const auto& [t, file] : sorted)
-    x << "   <xi:include href=\"" << escape(file)
-      << "\" xpointer=\"xpointer(//Xdmf/Domain/Grid)\"/>\n";
+  for (const auto& [t, file] : sorted) {
+    // The snapshot's own grid (writeSnapshotXdmf's, its lines indented by 2), with its time.
+    const std::string text = slurp((dir / file).string());
+    const std::size_t open = text.find("  <Grid ");
+    const std::size_t close = text.rfind("  </Grid>");
+    const std::size_t eol = open == std::string::npos ? open : text.find('\n', open);
+    if (open == std::string::npos || close == std::string::npos || eol == std::string::npos ||
+        close < eol)
+      throw RunError("cannot list " + file + " in " + seriesPath + ": it holds no spall grid");
+    std::istringstream lines(text.substr(eol + 1, close - eol - 1));
+    x << "   " << text.substr(open + 2, eol - open - 2) << "\n";
+    x << "     <Time Value=\"" << formatTime(t) << "\"/>\n";
+    for (std::string line; std::getline(lines, line);) x << "  " << line << "\n";
+    x << "   </Grid>\n";
+  }
   x << "  </Grid>\n </Domain>\n</Xdmf>\n";
   writeAtomically(seriesPath, x.str());
 }

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
-"""MPM's background grid in snapshots (`output.grid = true`: /grid in every snapshot .h5, a
-spatial collection of particles and nodes in its .xmf).
+"""MPM's background grid in snapshots (`output.grid = true`: /grid in every snapshot .h5, its
+nodes in snap_NNNNNN_grid.xmf beside the particles' .xmf, and series_grid.xmf over time).
 
 Scenes: the colliding disks with a velocity field per disk (2D, GIMP; nodes where both fields
 meet), the Taylor bar in 3D with the tent (linear) shape, and the 4340 Taylor bar in rz with CPDI.
@@ -123,10 +123,14 @@ with tempfile.TemporaryDirectory() as tmp:
                 t.run(deck, chain, *sets, ranks=3, restart="latest"):
             t.check(identical(grid(snapshots(chain)[-1])[0], grid(snapshots(one)[-1])[0]),
                     f"{name}: restarted halfway (2 then 3 ranks): the last grid bit for bit")
-        xmf = snapshots(one)[-1].with_suffix(".xmf").read_text()
-        t.check('CollectionType="Spatial"' in xmf and ":/grid/velocity" in xmf and
-                f'NumberOfElements="{len(grid(snapshots(one)[-1])[0]["mass"])}"' in xmf,
-                f"{name}: the .xmf shows particles and nodes")
+        last = snapshots(one)[-1]
+        xmf = last.with_name(last.stem + "_grid.xmf").read_text()
+        series = (last.parent / "series_grid.xmf").read_text()
+        t.check(":/grid/velocity" in xmf and ":/xdmf/grid_vertices" in xmf and
+                f'NumberOfElements="{len(grid(last)[0]["mass"])}"' in xmf and
+                series.count("<Time ") == len(snapshots(one)) and
+                ":/grid/" not in last.with_suffix(".xmf").read_text(),
+                f"{name}: the nodes in {last.stem}_grid.xmf and series_grid.xmf, one grid a time")
 
     # SPH has no grid: a deck error at the key.
     out = tmp / "sph"

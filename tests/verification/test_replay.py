@@ -14,7 +14,7 @@ which loses a few digits where L dt is small against F (measured 2e-15; the shea
 3e-13 of its own largest value); the pressure comes out
 exact (the same EOS call on the same density and energy). Also: `spall history` returns the
 recorded table, and from the snapshots alone (a particle not recorded) the recorded rows at
-the snapshot times (the snapshots store F column-major; read row-major it is F^T, which the
+the snapshot times (the snapshots store F row-major; read the other way it is F^T, which the
 corner particle's shear tells apart); the recording is the same on 1 and 2 ranks and through a restart (text
 identical). And a cap particle (confined sandstone under a piston, saturated) replayed to
 round-off, its plastic volumetric strain, porosity and pore pressure too; and two P-alpha particles

@@ -37,8 +37,8 @@ RestartCandidates restartCandidates(const std::filesystem::path& outputDir,
 void truncateHistory(const std::filesystem::path& file, std::int64_t step);
 void truncateProbes(const std::filesystem::path& file, double time);
 
-// Removes snapshots/snap_NNNNNN.{h5,xmf} (and leftover .tmp) numbered `first` and above: those
-// a crashed run wrote after its checkpoint; the restart writes them again.
+// Removes snapshots/snap_NNNNNN.{h5,xmf}, snap_NNNNNN_grid.xmf (and leftover .tmp) numbered `first`
+// and above: those a crashed run wrote after its checkpoint; the restart writes them again.
 void removeSnapshotsFrom(const std::filesystem::path& snapshotDir, int first);
 
 } // namespace spall::app

@@ -16,6 +16,7 @@ struct RunOptions {
   std::optional<std::string> restart;
   bool overwrite = false;
   bool quiet = false;
+  std::vector<std::string> commandLine; // argv, for summary.json
 };
 
 // Runs a deck to its end. Throws DeckError / UsageError before anything is written, RunError

@@ -1,7 +1,10 @@
 #pragma once
 // The run log on rank 0: a start banner, a progress line (redrawn in place on a terminal; in a
 // batch log, a plain line every N wall seconds and at every N percent of the run) and a closing
-// summary. Silent when quiet; errors go to stderr elsewhere and are never silenced.
+// summary. Silent when quiet; errors go to stderr elsewhere and are never silenced. With
+// `record`, the same lines (progress at the batch cadence, warnings too) also go to a file once
+// attach() names it, those before it first: OUT/run.log, written whatever --quiet says.
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -11,7 +14,13 @@ class RunLog {
 public:
   // Batch-log progress cadence: every `seconds` of wall time and every `percent` of the end
   // time (0: not by percent).
-  explicit RunLog(bool enabled, double seconds = 30.0, double percent = 10.0);
+  explicit RunLog(bool enabled, double seconds = 30.0, double percent = 10.0, bool record = false);
+  ~RunLog();
+  RunLog(const RunLog&) = delete;
+  RunLog& operator=(const RunLog&) = delete;
+  // The file the recorded lines go to (appended to: a restart continues it). Throws RunError
+  // when it cannot be opened.
+  void attach(const std::string& path);
   // Whether stdout reaches a terminal. Under an MPI launcher a rank's stdout is a pseudo-terminal
   // whatever the user redirected, so the launcher's own stdout decides.
   static bool stdoutIsTerminal();
@@ -24,6 +33,13 @@ public:
   void summary(const std::vector<std::string>& lines);
 
 private:
+  void record(const std::string& line);
+  bool batchDue(double wall, double fraction, double& lastPrint, double& lastFraction) const;
+
+  bool record_;
+  std::FILE* file_ = nullptr;
+  std::vector<std::string> pending_; // recorded before attach()
+  double fileLastPrint_ = -1e300, fileLastFraction_ = 0.0;
   bool enabled_;
   bool tty_;
   double seconds_, percent_;

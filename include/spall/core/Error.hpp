@@ -15,6 +15,14 @@ struct SourceLocation {
   int column = 0;   // 1-based; 0 when unknown
 };
 
+// A value a deck may hold but probably did not mean ("density 17.6 kg/m^3 for a solid: g/cm^3?").
+struct DeckWarning {
+  SourceLocation where;
+  std::string message;
+  // "FILE:LINE:COLUMN: warning: MESSAGE".
+  std::string formatted() const;
+};
+
 class DeckError : public std::runtime_error {
 public:
   DeckError(SourceLocation where, const std::string& message)

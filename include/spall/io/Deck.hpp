@@ -303,7 +303,8 @@ struct ProbeConfig {
 
 struct Deck {
   std::string path;          // the deck file as given
-  std::string resolved_toml; // the deck with overrides applied, as TOML text
+  std::string resolved_toml; // the deck with overrides and every applied default, as TOML text
+  std::vector<DeckWarning> warnings; // plausibility: values a deck may hold but rarely means
   RunConfig run;
   SolverConfig solver;
   DecompositionConfig decomposition;
@@ -318,6 +319,10 @@ struct Deck {
   std::optional<FragmentsConfig> fragments;
   std::optional<PenetrationConfig> penetration;
 };
+
+// The deck as a run ran it (OUT/deck.toml): resolved_toml with output.directory set to where the
+// run wrote. `spall check` passes it and `spall run` of it repeats the run bit for bit.
+std::string deckAsRun(const Deck& deck, const std::string& outputDir);
 
 // Reads, applies `--set KEY=VALUE` overrides to, and validates a deck. Throws DeckError with the
 // position of the first offending value. Writes nothing.

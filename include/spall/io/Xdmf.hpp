@@ -1,7 +1,8 @@
 #pragma once
-// XDMF 2 descriptions of the snapshot HDF5 files, so ParaView and VisIt open them directly:
-// one .xmf per snapshot (the particles as a polyvertex grid, every field a node attribute) and
-// a temporal collection that includes them all. Serial: call on one rank.
+// XDMF 3 descriptions of the snapshot HDF5 files, so ParaView, VisIt and meshio open them
+// directly: one .xmf per point set of a snapshot (the particles, or MPM's grid nodes: a
+// polyvertex grid, every field a node attribute, the position as well) and a temporal collection
+// of them that carries the times. Serial: call on one rank.
 #include "spall/core/ParticleStore.hpp"
 
 #include <cstddef>
@@ -19,17 +20,16 @@ struct XdmfPoints {
   std::span<const FieldInfo> fields;
 };
 
-// h5FileName is a path relative to the .xmf. One set is a grid of its own; several are a
-// spatial collection (ParaView: a multiblock, a block per set) at the snapshot's time, so the
-// series still sees one grid per time. Written atomically (tmp file, then rename).
-void writeSnapshotXdmf(const std::string& xmfPath, const std::string& h5FileName, double time,
-                       int dimension, std::span<const XdmfPoints> sets);
-// The particles alone.
-void writeSnapshotXdmf(const std::string& xmfPath, const std::string& h5FileName, double time,
-                       std::size_t globalCount, int dimension, std::span<const FieldInfo> fields);
+// One Uniform grid, the form meshio reads: no Time element (meshio refuses one in a grid; the
+// series carries the times). h5FileName is relative to the .xmf; the vertex list and, in 1D, the
+// points are the file's /xdmf datasets (Snapshot.hpp). Written atomically (tmp file, rename).
+void writeSnapshotXdmf(const std::string& xmfPath, const std::string& h5FileName, int dimension,
+                       const XdmfPoints& set);
 
-// A temporal collection of (time, snapshot .xmf relative to seriesPath), in time order.
-// Written atomically, so a viewer polling the file never sees half of it.
+// A temporal collection of (time, snapshot .xmf relative to seriesPath's folder), in time order:
+// each snapshot's grid inline with its Time, which ParaView, VisIt and meshio's TimeSeriesReader
+// all read (XInclude is not read by meshio). Written atomically, so a viewer polling the file
+// never sees half of it.
 void writeSeriesXdmf(const std::string& seriesPath,
                      const std::vector<std::pair<double, std::string>>& snapshots);
 

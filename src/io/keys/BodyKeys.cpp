@@ -231,7 +231,7 @@ void readVelocityFields(const deck_detail::TableReader& r, std::size_t dimension
   const auto read = [&](const char* key, auto& field) {
     const toml::table* t = r.subtable(key);
     if (!t) return;
-    const deck_detail::TableReader sub(*t, r.context().child(key), r.deckPath());
+    const deck_detail::TableReader sub(*t, r.context().child(key), r.deckPath(), r.notes());
     sub.allowOnly(*deck_detail::schemaKeys(std::string("body.") + key));
     Read visit(sub, dimension);
     keysOf(visit, field.emplace());

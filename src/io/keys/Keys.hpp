@@ -279,7 +279,9 @@ public:
   }
   void number(std::string_view key, double& v, double fallback, std::string_view unit, Bound b,
               std::string_view) {
-    v = r_.number(key, b.infinite).value_or(fallback);
+    const auto given = r_.number(key, b.infinite);
+    v = given.value_or(fallback);
+    if (!given) r_.noteDefault(key, tomlNumber(v));
     check(key, v, unit, b);
   }
   void number(std::string_view key, double& v, Off, std::string_view unit, Bound b,
@@ -298,7 +300,9 @@ public:
   }
   void number(std::string_view key, double& v, Keep, std::string_view unit, Bound b,
               std::string_view) {
-    v = r_.number(key, b.infinite).value_or(v);
+    const auto given = r_.number(key, b.infinite);
+    v = given.value_or(v);
+    if (!given) r_.noteDefault(key, tomlNumber(v));
     check(key, v, unit, b);
   }
   void number(std::string_view key, double& v, Depends, std::string_view unit, Bound b,
@@ -312,7 +316,10 @@ public:
   }
   template <class I>
   void integer(std::string_view key, I& v, Keep, std::string_view unit, Bound b, std::string_view) {
-    if (const auto given = r_.integer(key)) v = toInteger<I>(key, *given, unit, b);
+    if (const auto given = r_.integer(key))
+      v = toInteger<I>(key, *given, unit, b);
+    else
+      r_.noteDefault(key, std::to_string(v));
   }
   template <class I>
   void integer(std::string_view key, I& v, Depends, std::string_view unit, Bound b,
@@ -320,25 +327,33 @@ public:
     if (const auto given = r_.integer(key)) v = toInteger<I>(key, *given, unit, b);
   }
   void flag(std::string_view key, bool& v, bool fallback, std::string_view) {
-    v = r_.boolean(key).value_or(fallback);
+    const auto given = r_.boolean(key);
+    v = given.value_or(fallback);
+    if (!given) r_.noteDefault(key, v ? "true" : "false");
   }
   void flag(std::string_view key, bool& v, Keep, std::string_view) {
-    v = r_.boolean(key).value_or(v);
+    const auto given = r_.boolean(key);
+    v = given.value_or(v);
+    if (!given) r_.noteDefault(key, v ? "true" : "false");
   }
   void text(std::string_view key, std::string& v, Required, std::string_view) {
     v = r_.required(r_.string(key), key);
   }
   void text(std::string_view key, std::string& v, Keep, std::string_view) {
-    v = r_.string(key).value_or(v);
+    const auto given = r_.string(key);
+    v = given.value_or(v);
+    if (!given) r_.noteDefault(key, Describe::quoted(v));
   }
   template <class E, std::size_t N>
   void choice(std::string_view key, E& v, const NameTable<E, N>& names, E fallback,
               std::string_view) {
     v = r_.choice(key, names, fallback);
+    if (!r_.has(key)) r_.noteDefault(key, Describe::quoted(names(v)));
   }
   template <class E, std::size_t N>
   void choice(std::string_view key, E& v, const NameTable<E, N>& names, Keep, std::string_view) {
     v = r_.choice(key, names, v);
+    if (!r_.has(key)) r_.noteDefault(key, Describe::quoted(names(v)));
   }
   template <class E, std::size_t N>
   void choice(std::string_view key, E& v, const NameTable<E, N>& names, Depends, std::string_view) {

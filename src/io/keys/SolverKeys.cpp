@@ -119,7 +119,7 @@ bool readSubtable(const deck_detail::TableReader& r, std::string_view key, std::
                   T& into, Keys keys) {
   const auto* t = r.subtable(key);
   if (!t) return false;
-  const deck_detail::TableReader sub(*t, r.context().child(key), r.deckPath());
+  const deck_detail::TableReader sub(*t, r.context().child(key), r.deckPath(), r.notes());
   sub.allowOnly(*deck_detail::schemaKeys(path));
   Read read(sub);
   keys(read, into);
@@ -158,7 +158,7 @@ void readSolver(const deck_detail::TableReader& r, SolverConfig& s) {
       r.fail("mpm", r.quoted("mpm") +
                         " configures the material point method; this deck's method is '" +
                         std::string(kSolverMethodNames(s.method)) + "' (set method = \"mpm\")");
-    const deck_detail::TableReader mp(*t, r.context().child("mpm"), r.deckPath());
+    const deck_detail::TableReader mp(*t, r.context().child("mpm"), r.deckPath(), r.notes());
     s.mpm.where = mp.where();
     readSubtable(r, "mpm", "solver.mpm", s.mpm, kKeys);
     readSubtable(mp, "viscosity", "solver.mpm.viscosity", s.mpm, kViscosityKeys);
