@@ -47,6 +47,18 @@ void prepareOutputDirectory(const fs::path& dir, const RunOptions& options) {
   for (const auto& path : stale) fs::remove(path);
 }
 
+// The deck's plausibility warnings and the scene's (collective), printed on rank 0's stderr.
+template <int Dim>
+std::vector<std::string> printWarnings(const Deck& deck, const Simulation<Dim>& sim,
+                                       const parallel::MpiContext& mpi) {
+  std::vector<std::string> lines;
+  for (const auto& w : deck.warnings) lines.push_back(w.formatted());
+  for (const auto& w : sim.sceneWarnings()) lines.push_back(w.formatted());
+  if (mpi.root())
+    for (const auto& l : lines) fmt::print(stderr, "{}\n", l);
+  return lines;
+}
+
 template <int Dim>
 void runDim(const Deck& deck, const RunOptions& options, const parallel::MpiContext& mpi) {
   if (options.restart && options.overwrite)
@@ -76,16 +88,22 @@ void runDim(const Deck& deck, const RunOptions& options, const parallel::MpiCont
   } else {
     sim.generate();
   }
+  const auto warnings = printWarnings(deck, sim, mpi);
+  if (options.strict && !warnings.empty())
+    throw UsageError(fmt::format("{} warning{} above, and --strict: nothing was run",
+                                 warnings.size(), warnings.size() > 1 ? "s" : ""));
+  sim.logWarnings(warnings);
   sim.prepareRecording();
   parallel::onRoot<UsageError>(mpi.comm(), [&] { prepareOutputDirectory(dir, options); });
   sim.run(options, dir);
 }
 
-template <int Dim> void checkDim(const Deck& deck, const parallel::MpiContext& mpi) {
+template <int Dim> std::size_t checkDim(const Deck& deck, const parallel::MpiContext& mpi) {
   Simulation<Dim> sim(deck, mpi);
   sim.generate();
   const double dt = sim.firstTimeStep();
-  if (!mpi.root()) return;
+  const std::size_t warned = printWarnings(deck, sim, mpi).size();
+  if (!mpi.root()) return warned;
   fmt::print("deck {}: OK\n", deck.path);
   if (!deck.run.title.empty()) fmt::print("  title      {}\n", deck.run.title);
   fmt::print("  dimension  {}D, solver {}\n", Dim, methodSummary(deck));
@@ -99,6 +117,7 @@ template <int Dim> void checkDim(const Deck& deck, const parallel::MpiContext& m
              deck.run.end_time);
   fmt::print("  output     {}\n", deck.output.directory);
   for (const auto& w : sim.warnings()) fmt::print("  warning    {}\n", w);
+  return warned;
 }
 
 } // namespace
@@ -114,7 +133,7 @@ void runDeck(const Deck& deck, const RunOptions& options, const parallel::MpiCon
   }
 }
 
-void checkDeck(const Deck& deck, const parallel::MpiContext& mpi) {
+std::size_t checkDeck(const Deck& deck, const parallel::MpiContext& mpi) {
   switch (deck.run.dimension) {
   case 1:
     return checkDim<1>(deck, mpi);

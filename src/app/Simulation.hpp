@@ -60,10 +60,15 @@ public:
   double cores() const { return static_cast<double>(mpi_.size()) * threadCount(); }
   const std::vector<BodySummary>& bodies() const { return bodies_; }
   const std::vector<std::string>& warnings() const { return deferredWarnings_; }
+  // Lines for run.log's start (printed on stderr already).
+  void logWarnings(std::vector<std::string> lines) { loggedWarnings_ = std::move(lines); }
   // A rough peak estimate: stored fields, ghosts (~10%) and neighbor indices at the target n_h.
   std::size_t memoryEstimate() const;
   // Before any force: h over the sound and bulk speed.
   double firstTimeStep() const;
+  // Collective, after generate(): the plausibility of run.end_time against the time a sound
+  // wave takes to cross the largest body (docs/reference.md, "Warnings").
+  std::vector<DeckWarning> sceneWarnings() const;
 
 private:
   // Simulation.cpp: the loop
@@ -137,6 +142,7 @@ private:
   RunLog* log_ = nullptr;
   std::vector<std::string> outputFields_;
   std::vector<std::string> deferredWarnings_;
+  std::vector<std::string> loggedWarnings_;
   std::vector<std::pair<double, std::string>> series_;
   io::CsvLog history_, probesCsv_, fragmentsCsv_, penetrationCsv_;
   std::unique_ptr<ParticleRecorder<Dim>> recorder_;

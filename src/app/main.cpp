@@ -23,52 +23,8 @@ int fail(const spall::parallel::MpiContext& mpi, int code, const std::string& me
   return code;
 }
 
-} // namespace
-
-int main(int argc, char** argv) {
-  // Particle arrays of a megabyte or more are mapped and unmapped on their own, always: glibc
-  // otherwise raises this threshold to the largest block freed, and the arrays that grow with
-  // the ghosts and lists are then carved from a heap that never shrinks (a Taylor bar's resident
-  // memory grew by 40% over its first searches).
-  mallopt(M_MMAP_THRESHOLD, 1 << 20);
-  spall::parallel::MpiSession session(argc, argv);
-  spall::parallel::MpiContext mpi;
-  spall::configureThreads();
-
-  CLI::App cli{"spall: a particle hydrocode for impact, penetration and fragmentation of solids"};
-  cli.set_version_flag("--version", std::string("spall ") + spall::app::BuildInfo::version());
-  cli.require_subcommand(1);
-
-  spall::app::RunOptions run;
-  run.commandLine.assign(argv, argv + argc);
-  std::string outputDir, restart;
-  auto* runCmd = cli.add_subcommand("run", "run a deck");
-  runCmd->add_option("deck", run.deckPath, "deck file (TOML)")->required();
-  runCmd->add_option("--set", run.overrides, "override a deck value: KEY=VALUE (dotted path)");
-  runCmd->add_option("--restart", restart, "continue from a checkpoint: latest or a path");
-  runCmd->add_option("--output", outputDir,
-                     "output directory (default: the deck's output.directory)");
-  runCmd->add_flag("--overwrite", run.overwrite, "replace results already in the output directory");
-  runCmd->add_flag("--quiet", run.quiet, "print errors only");
-
-  std::string checkDeckPath;
-  std::vector<std::string> checkOverrides;
-  auto* checkCmd =
-      cli.add_subcommand("check", "parse and validate a deck, print a summary; runs nothing");
-  checkCmd->add_option("deck", checkDeckPath, "deck file (TOML)")->required();
-  checkCmd->add_option("--set", checkOverrides, "override a deck value: KEY=VALUE");
-
-  bool keysMarkdown = false;
-  std::string keysPrefix;
-  auto* keysCmd = cli.add_subcommand(
-      "keys", "every deck key: path, type, default, unit, accepted values, meaning");
-  keysCmd->add_option("prefix", keysPrefix, "only the keys whose path begins so (e.g. solver.)");
-  keysCmd->add_flag("--markdown", keysMarkdown, "the page decks/keys.md (all keys)");
-
-  auto* infoCmd =
-      cli.add_subcommand("info", "version, git revision, compiler, MPI, HDF5, METIS, features");
-
-  spall::app::ElementOptions element;
+// `spall element`'s options (the single-element driver, docs/reference.md).
+CLI::App* addElementCommand(CLI::App& cli, spall::app::ElementOptions& element) {
   auto* elementCmd = cli.add_subcommand(
       "element", "drive one material point through an F-table (single-element driver)");
   elementCmd->add_option("deck", element.deckPath, "deck file (TOML) with the material")
@@ -98,6 +54,61 @@ int main(int argc, char** argv) {
   elementCmd->add_option("--flaw-volume", element.flawVolume,
                          "volume (m^3) a Grady-Kipp material's flaws are drawn for (default 1e-9)");
   elementCmd->add_flag("--overwrite", element.overwrite, "replace an existing CSV");
+  return elementCmd;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  // Particle arrays of a megabyte or more are mapped and unmapped on their own, always: glibc
+  // otherwise raises this threshold to the largest block freed, and the arrays that grow with
+  // the ghosts and lists are then carved from a heap that never shrinks (a Taylor bar's resident
+  // memory grew by 40% over its first searches).
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
+  spall::parallel::MpiSession session(argc, argv);
+  spall::parallel::MpiContext mpi;
+  spall::configureThreads();
+
+  CLI::App cli{"spall: a particle hydrocode for impact, penetration and fragmentation of solids"};
+  cli.set_version_flag("--version", std::string("spall ") + spall::app::BuildInfo::version());
+  cli.require_subcommand(1);
+
+  spall::app::RunOptions run;
+  run.commandLine.assign(argv, argv + argc);
+  std::string outputDir, restart;
+  auto* runCmd = cli.add_subcommand("run", "run a deck");
+  runCmd->add_option("deck", run.deckPath, "deck file (TOML)")->required();
+  runCmd->add_option("--set", run.overrides, "override a deck value: KEY=VALUE (dotted path)");
+  runCmd->add_option("--restart", restart, "continue from a checkpoint: latest or a path");
+  runCmd->add_option("--output", outputDir,
+                     "output directory (default: the deck's output.directory)");
+  runCmd->add_flag("--overwrite", run.overwrite, "replace results already in the output directory");
+  runCmd->add_flag("--quiet", run.quiet, "print errors and warnings only");
+  runCmd->add_flag("--strict", run.strict,
+                   "refuse (exit 2) a deck with plausibility warnings (a unit typed wrong?)");
+
+  std::string checkDeckPath;
+  std::vector<std::string> checkOverrides;
+  auto* checkCmd =
+      cli.add_subcommand("check", "parse and validate a deck, print a summary; runs nothing");
+  checkCmd->add_option("deck", checkDeckPath, "deck file (TOML)")->required();
+  checkCmd->add_option("--set", checkOverrides, "override a deck value: KEY=VALUE");
+  bool checkStrict = false;
+  checkCmd->add_flag("--strict", checkStrict,
+                     "exit 2 if the deck has plausibility warnings (a unit typed wrong?)");
+
+  bool keysMarkdown = false;
+  std::string keysPrefix;
+  auto* keysCmd = cli.add_subcommand(
+      "keys", "every deck key: path, type, default, unit, accepted values, meaning");
+  keysCmd->add_option("prefix", keysPrefix, "only the keys whose path begins so (e.g. solver.)");
+  keysCmd->add_flag("--markdown", keysMarkdown, "the page decks/keys.md (all keys)");
+
+  auto* infoCmd =
+      cli.add_subcommand("info", "version, git revision, compiler, MPI, HDF5, METIS, features");
+
+  spall::app::ElementOptions element;
+  auto* elementCmd = addElementCommand(cli, element);
   spall::app::HistoryOptions history;
   auto* historyCmd = cli.add_subcommand(
       "history", "a particle's deformation history as an F-table (for spall element)");
@@ -150,7 +161,10 @@ int main(int argc, char** argv) {
     }
     if (*checkCmd) {
       const auto deck = spall::loadDeck(checkDeckPath, checkOverrides);
-      spall::app::checkDeck(deck, mpi);
+      const std::size_t warned = spall::app::checkDeck(deck, mpi);
+      if (checkStrict && warned > 0)
+        return fail(mpi, 2,
+                    fmt::format("error: {} warning{} and --strict", warned, warned > 1 ? "s" : ""));
       return 0;
     }
     if (!outputDir.empty()) run.outputDir = outputDir;

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fmt/format.h>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -47,6 +48,9 @@ double determinant(const std::vector<std::vector<double>>& m) {
            m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
   }
 }
+
+// Plausibility of speeds (docs/reference.md, "Warnings").
+constexpr double kFastest = 1e5, kSlowestPenetrator = 10.0;
 
 class DeckReader {
 public:
@@ -174,6 +178,7 @@ void DeckReader::read(Deck& deck) {
     keys::readProbe(r, p, dimension_);
   });
   dd::checkMpmScope(deck);
+  dd::resolutionWarnings(deck, notes_);
 }
 
 // Names address entries in messages and in --set paths, so they are unique and dot-free.
@@ -194,6 +199,8 @@ std::string DeckReader::readName(const TableReader& r, std::string_view kind,
 
 void DeckReader::readRun(const TableReader& r, RunConfig& run) {
   keys::readRun(r, run);
+  run.endTimeWhere = r.whereValue("end_time");
+  notes_.si = run.units == Units::SI; // a scaled deck's numbers have no SI bounds to meet
   dimension_ = static_cast<std::size_t>(run.dimension);
   rz_ = run.geometry == Geometry::RZ;
 }
@@ -203,6 +210,14 @@ void DeckReader::readBody(const TableReader& r, const std::vector<MaterialConfig
   r.allowOnly(*dd::schemaKeys("body"));
   b.where = r.where();
   keys::readBody(r, b, dimension_);
+  b.spacingWhere = r.whereValue("spacing");
+  b.velocityWhere = r.whereValue("velocity");
+  // Faster than any impact a hydrocode is run for (meteoroids reach 72 km/s): a velocity typed in
+  // mm/s or cm/s.
+  if (const double v = dd::norm(b.velocity); v > kFastest)
+    r.warn("velocity",
+           fmt::format("{} is {} m/s, above {} m/s: mm/s or cm/s typed for m/s?",
+                       r.quoted("velocity"), dd::formatNumber(v), dd::formatNumber(kFastest)));
   b.material_index = dd::materialIndex(r, b.material, materials);
   const toml::table* shape = r.subtable("shape");
   if (!shape) r.missing("shape");
@@ -278,6 +293,15 @@ void DeckReader::readPenetration(const TableReader& r, PenetrationConfig& c,
     c.penetrator.push_back(name);
   }
   knownBody("target", c.target);
+  // A penetrator slower than a dropped tool (10 m/s): a speed typed in km/s.
+  for (const auto& b : bodies)
+    if (std::find(c.penetrator.begin(), c.penetrator.end(), b.name) != c.penetrator.end())
+      if (const double v = dd::norm(b.velocity); v > 0.0 && v < kSlowestPenetrator)
+        notes_.unitWarning(
+            {b.velocityWhere,
+             fmt::format("'body.{}.velocity' is {} m/s for a penetrator ([penetration]): km/s "
+                         "typed for m/s?",
+                         b.name, dd::formatNumber(v))});
   if (std::find(c.penetrator.begin(), c.penetrator.end(), c.target) != c.penetrator.end())
     r.fail("target", "body '" + c.target + "' is both the target and a penetrator");
   double norm = 0.0;
@@ -336,12 +360,7 @@ Deck loadDeck(const std::string& path, const std::vector<std::string>& overrides
   deck.path = path;
   DeckNotes notes;
   DeckReader(root, path, notes).read(deck);
-  try {
-    dd::applyOverrides(root, notes.defaults, path);
-  } catch (const DeckError& e) {
-    throw std::logic_error("internal: a default the deck reader applied cannot be written back: " +
-                           e.formatted());
-  }
+  dd::writeDefaults(root, notes.defaults);
   deck.resolved_toml = resolvedText(root, path, overrides);
   deck.warnings = std::move(notes.warnings);
   return deck;

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fmt/format.h>
+#include <limits>
 #include <map>
 
 namespace spall::io::deck_detail {
@@ -125,6 +126,30 @@ std::string typeName(const toml::node& node) {
   return "nothing";
 }
 
+void resolutionWarnings(const Deck& deck, DeckNotes& notes) {
+  constexpr double kFewest = 3.0; // a gradient needs a particle either side of one
+  const bool rz = deck.run.geometry == Geometry::RZ;
+  const auto* pen = deck.penetration ? &deck.penetration->penetrator : nullptr;
+  for (const auto& b : deck.bodies) {
+    const double dx = b.spacing / deck.run.resolution;
+    const double across = thinnestWidth(b.shape) / dx;
+    const bool penetrator = pen && std::find(pen->begin(), pen->end(), b.name) != pen->end();
+    const double radial = penetrator ? penetratorRadius(b.shape, rz) / dx : across;
+    if (across >= kFewest && radial >= kFewest) continue;
+    const bool byRadius = radial < across;
+    notes.warnings.push_back(
+        {b.spacingWhere,
+         fmt::format(
+             "body '{}' is {} particles across its {} ({} m at spacing {} m with "
+             "run.resolution {}): under 3 a gradient has no particle either side; a "
+             "smaller spacing or a larger run.resolution",
+             b.name, formatNumber(std::round((byRadius ? radial : across) * 100) / 100),
+             byRadius ? "radius (a penetrator)" : "thinnest extent",
+             formatNumber(byRadius ? penetratorRadius(b.shape, rz) : thinnestWidth(b.shape)),
+             formatNumber(dx), formatNumber(deck.run.resolution))});
+  }
+}
+
 double norm(const std::vector<double>& v) {
   double s = 0.0;
   for (double x : v) s += x * x;
@@ -197,20 +222,25 @@ const Names& typedKeys(std::string_view schemaPath, std::string_view type) {
 }
 
 Context Context::child(std::string_view key) const {
-  if (dotted.empty()) return {"[" + std::string(key) + "]", std::string(key)};
-  return {"the " + std::string(key) + " of " + human, dotted + "." + std::string(key)};
+  std::vector<PathStep> p = path;
+  p.push_back({std::string(key), std::nullopt});
+  if (dotted.empty()) return {"[" + std::string(key) + "]", std::string(key), std::move(p)};
+  return {"the " + std::string(key) + " of " + human, dotted + "." + std::string(key),
+          std::move(p)};
 }
 
 Context Context::entry(std::string_view kind, const toml::table& table, std::size_t index) {
   const std::string k(kind);
+  std::vector<PathStep> p{{k, index}};
   if (isNamedArray(kind)) {
     if (const auto* name = table.get_as<std::string>("name")) {
       const std::string& n = name->get();
-      if (!n.empty() && n.find('.') == std::string::npos) return {k + " '" + n + "'", k + "." + n};
+      if (!n.empty() && n.find('.') == std::string::npos)
+        return {k + " '" + n + "'", k + "." + n, std::move(p)};
     }
   }
   const std::string i = std::to_string(index + 1);
-  return {k + " " + i, k + "." + i};
+  return {k + " " + i, k + "." + i, std::move(p)};
 }
 
 std::string unknownKeyMessage(std::string_view key, const Context& context, const Names& known,
@@ -315,13 +345,11 @@ std::string shortestFloats(std::string_view text) {
 }
 
 void TableReader::noteDefault(std::string_view key, const std::string& toml) const {
-  if (notes_)
-    notes_->defaults.push_back((context_.dotted.empty() ? "" : context_.dotted + ".") +
-                               std::string(key) + "=" + toml);
+  if (notes_) notes_->defaults.push_back({context_.path, std::string(key), toml});
 }
 
 void TableReader::warn(std::string_view key, const std::string& message) const {
-  if (notes_) notes_->warnings.push_back({whereValue(key), message});
+  if (notes_) notes_->unitWarning({whereValue(key), message});
 }
 
 std::string TableReader::quoted(std::string_view key) const {
@@ -536,3 +564,33 @@ int materialIndex(const TableReader& r, const std::string& name,
 }
 
 } // namespace spall::io::deck_detail
+
+namespace spall {
+
+double thinnestWidth(const ShapeConfig& s) {
+  double width = std::numeric_limits<double>::infinity();
+  switch (s.type) {
+  case ShapeType::Box:
+    for (std::size_t a = 0; a < s.min.size() && a < s.max.size(); ++a)
+      width = std::min(width, s.max[a] - s.min[a]);
+    break;
+  case ShapeType::Sphere:
+    width = 2.0 * s.radius;
+    break;
+  case ShapeType::Cylinder:
+    width = std::min(2.0 * s.radius, s.length);
+    break;
+  case ShapeType::Ring:
+    width = s.outer_radius - s.inner_radius;
+    break;
+  }
+  return width;
+}
+
+double penetratorRadius(const ShapeConfig& s, bool rz) {
+  if (rz && s.type == ShapeType::Box && !s.min.empty() && s.min[0] == 0.0) return s.max[0];
+  if (s.type == ShapeType::Cylinder || s.type == ShapeType::Sphere) return s.radius;
+  return 0.5 * thinnestWidth(s);
+}
+
+} // namespace spall

@@ -48,9 +48,16 @@ const Names& typeNames(std::string_view schemaPath);
 const Names& typedKeys(std::string_view schemaPath, std::string_view type);
 
 // How a table is named in messages: for people, and as the dotted path `--set` addresses it by.
+// One step from the deck's root to a table: a key, and for an [[array]] entry its index.
+struct PathStep {
+  std::string key;
+  std::optional<std::size_t> index;
+};
+
 struct Context {
   std::string human;  // "[run]", "body 'striker'", "the shape of body 'striker'"; "" at top level
   std::string dotted; // "run", "body.striker", "body.striker.shape"; "" at top level
+  std::vector<PathStep> path; // the same table, for the program (names may hold any character)
   Context child(std::string_view key) const;
   // One [[kind]] entry: by its name where the kind has names (and this one a usable name), else
   // by its 1-based index ("boundary 2", "boundary.2").
@@ -72,10 +79,23 @@ void applyOverrides(toml::table& root, const std::vector<std::string>& overrides
 // What reading a deck finds besides its values, collected across its tables: the defaults it
 // applied to keys the deck leaves out (as `--set` takes them, "solver.cfl=0.25": the deck as run
 // writes them explicitly) and its plausibility warnings.
-struct DeckNotes {
-  std::vector<std::string> defaults;
-  std::vector<DeckWarning> warnings;
+struct AppliedDefault {
+  std::vector<PathStep> table;
+  std::string key, toml; // toml: the value as TOML text ("0.25", "\"auto\"")
 };
+struct DeckNotes {
+  std::vector<AppliedDefault> defaults;
+  std::vector<DeckWarning> warnings;
+  bool si = true; // run.units: the bounds of SI values apply
+  // A warning of a value a unit slip would give: none for a scaled deck.
+  void unitWarning(DeckWarning w) {
+    if (si) warnings.push_back(std::move(w));
+  }
+};
+
+// Writes the defaults the reader applied into the deck's tables (creating a table the deck left
+// out, such as [solver]), so that the deck as run states them.
+void writeDefaults(toml::table& root, const std::vector<AppliedDefault>& defaults);
 
 // Typed, checked reads from one table. Every failure is a DeckError at the offending value, or at
 // the table itself for a missing key.
@@ -91,7 +111,8 @@ public:
   DeckNotes* notes() const { return notes_; }
   // A default applied to the absent `key`, `toml` its value as TOML ("0.25", "\"auto\"").
   void noteDefault(std::string_view key, const std::string& toml) const;
-  // A plausibility warning at the key's value (or the table, if absent).
+  // A plausibility warning of a value a unit slip would give, at the key's value (or the table,
+  // if absent); none in a scaled deck.
   void warn(std::string_view key, const std::string& message) const;
   SourceLocation where() const;                          // the table's own position
   SourceLocation whereValue(std::string_view key) const; // the value's, or the table's if absent
@@ -164,6 +185,10 @@ void readJet(const TableReader& r, std::size_t dimension, bool rz,
 
 // The Euclidean length of a vector value.
 double norm(const std::vector<double>& v);
+
+// Plausibility of the deck's resolution (docs/reference.md, "Warnings"): fewer than 3 particles
+// across a body's thinnest extent or a penetrator's radius.
+void resolutionWarnings(const Deck& deck, DeckNotes& notes);
 
 // A [[boundary]] type = "pressure"'s `pressure` table (DeckPressureTable.cpp): (time s, Pa) rows,
 // times rising from >= 0.

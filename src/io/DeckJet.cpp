@@ -181,6 +181,8 @@ void readJet(const TableReader& r, std::size_t dimension, bool rz,
       if (other.name == b.name)
         r.fail("segments", row1 + "its body name '" + b.name + "' is taken by another body");
     b.insert_time = t;
+    b.spacingWhere = r.whereValue("spacing");
+    b.velocityWhere = r.whereValue("segments");
     b.velocity.assign(dimension, 0.0);
     std::vector<double> back(dimension);
     for (std::size_t d = 0; d < dimension; ++d) {

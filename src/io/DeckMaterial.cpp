@@ -57,6 +57,15 @@ void readMaterial(const TableReader& r, MaterialConfig& m) {
         },
         m.eos.model);
   }
+  // A solid's or liquid's reference density (MaterialKeys' note on density).
+  constexpr double kLightest = 50.0, kDensest = 25000.0;
+  const bool gas = !m.strength.cap() && std::holds_alternative<materials::IdealGas>(m.eos.model);
+  if (!gas && (m.density < kLightest || m.density > kDensest))
+    r.warn("density", fmt::format("{} = {} kg/m^3 is {} for a solid or liquid: {}",
+                                  r.quoted("density"), formatNumber(m.density),
+                                  m.density < kLightest ? "below 50 kg/m^3" : "above 25000 kg/m^3",
+                                  m.density < kLightest ? "g/cm^3 typed for kg/m^3?"
+                                                        : "denser than osmium (22590 kg/m^3)"));
   if (const toml::table* t = r.subtable("damage")) {
     const TableReader d = child(r, *t, r.context().child("damage"));
     m.damage.where = d.where();

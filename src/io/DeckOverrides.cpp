@@ -5,6 +5,7 @@
 
 #include <cctype>
 #include <cstdio>
+#include <stdexcept>
 
 namespace spall::io::deck_detail {
 
@@ -159,6 +160,25 @@ void applyOne(toml::table& root, const std::string& text, const std::string& dec
 }
 
 } // namespace
+
+void writeDefaults(toml::table& root, const std::vector<AppliedDefault>& defaults) {
+  for (const auto& d : defaults) {
+    toml::table* t = &root;
+    for (const auto& step : d.table) {
+      if (step.index) {
+        toml::array* a = t->get_as<toml::array>(step.key);
+        t = a && *step.index < a->size() ? a->get(*step.index)->as_table() : nullptr;
+      } else {
+        toml::node* n = t->get(step.key);
+        t = n ? n->as_table()
+              : t->insert_or_assign(step.key, toml::table{}).first->second.as_table();
+      }
+      if (!t) throw std::logic_error("internal: a default's table is not in the deck");
+    }
+    toml::table doc = parseValue(d.toml, "default of " + d.key);
+    t->insert_or_assign(d.key, std::move(*doc.get("v")));
+  }
+}
 
 void applyOverrides(toml::table& root, const std::vector<std::string>& overrides,
                     const std::string& deckPath) {

@@ -16,6 +16,7 @@ struct RunOptions {
   std::optional<std::string> restart;
   bool overwrite = false;
   bool quiet = false;
+  bool strict = false;                  // plausibility warnings are errors (exit 2)
   std::vector<std::string> commandLine; // argv, for summary.json
 };
 
@@ -23,7 +24,8 @@ struct RunOptions {
 // when the run fails.
 void runDeck(const Deck& deck, const RunOptions& options, const parallel::MpiContext& mpi);
 
-// Sets the deck up without running it and prints a summary on rank 0.
-void checkDeck(const Deck& deck, const parallel::MpiContext& mpi);
+// Sets the deck up without running it and prints a summary on rank 0, its plausibility warnings
+// on stderr ("FILE:LINE:COLUMN: warning: ..."). Returns how many warnings there were.
+std::size_t checkDeck(const Deck& deck, const parallel::MpiContext& mpi);
 
 } // namespace spall::app

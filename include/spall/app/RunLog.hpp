@@ -31,9 +31,10 @@ public:
   // A line of its own between progress lines (e.g. a rebalance).
   void note(const std::string& text);
   void summary(const std::vector<std::string>& lines);
+  // A line for the file alone (already printed elsewhere).
+  void record(const std::string& line);
 
 private:
-  void record(const std::string& line);
   bool batchDue(double wall, double fraction, double& lastPrint, double& lastFraction) const;
 
   bool record_;

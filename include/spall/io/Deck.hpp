@@ -23,11 +23,19 @@
 
 namespace spall {
 
+// The deck's numbers: SI (kg, m, s, K, Pa), checked for plausibility (docs/reference.md,
+// "Warnings"), or a consistent scaled set (a nondimensional benchmark such as Sulsky's disks),
+// where no plausibility warning applies.
+enum class Units { SI, Scaled };
+inline constexpr NameTable<Units, 2> kUnitNames{{{{Units::SI, "si"}, {Units::Scaled, "scaled"}}}};
+
 struct RunConfig {
   std::string title;
+  Units units = Units::SI;
   int dimension = 0;
   Geometry geometry = Geometry::Cartesian; // "rz": axisymmetric (solvers/Config.hpp)
   double end_time = 0.0;
+  SourceLocation endTimeWhere; // for the plausibility of end_time against the scene
   std::int64_t max_steps = std::numeric_limits<std::int64_t>::max();
   double resolution = 1.0;
   std::uint64_t seed = 1;
@@ -206,6 +214,7 @@ struct BodyConfig {
   int material_index = -1; // resolved index into Deck::materials
   ShapeConfig shape;
   double spacing = 0.0; // before run.resolution
+  SourceLocation spacingWhere, velocityWhere;
   Lattice lattice = Lattice::Cubic;
   std::vector<double> velocity; // dimension entries
   std::optional<double> initial_density;
@@ -319,6 +328,12 @@ struct Deck {
   std::optional<FragmentsConfig> fragments;
   std::optional<PenetrationConfig> penetration;
 };
+
+// A shape's thinnest extent (a box's smallest side, a cylinder's smaller of diameter and length,
+// a ring's wall) and the radius a penetrator of that shape presents (rz: a box on the axis is a
+// cylinder of radius max r; otherwise half the thinnest extent, or the radius).
+double thinnestWidth(const ShapeConfig& s);
+double penetratorRadius(const ShapeConfig& s, bool rz);
 
 // The deck as a run ran it (OUT/deck.toml): resolved_toml with output.directory set to where the
 // run wrote. `spall check` passes it and `spall run` of it repeats the run bit for bit.

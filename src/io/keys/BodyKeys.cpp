@@ -20,8 +20,12 @@ template <class K> void keysOf(K& k, BodyConfig& b) {
            "The lattice spacing of its particles, divided by run.resolution.");
   k.choice("lattice", b.lattice, kLatticeNames, keep,
            "hexagonal: triangular in 2D, hexagonal close packing in 3D.");
+  k.note("spacing", "warns under 3 particles across the body's thinnest extent, or a "
+                    "penetrator's radius (a gradient needs a particle either side)");
   k.vector("velocity", b.velocity, Depends{"zero"}, "m/s", "slower than light",
            "Its uniform initial velocity, to which the velocity fields add.");
+  k.note("velocity", "warns above 1e5 m/s (mm/s or cm/s typed?), and for a [penetration] "
+                     "penetrator below 10 m/s (km/s typed?)");
   k.number("initial_density", b.initial_density,
            Depends{"the material's density (over alpha0 if porous)"}, "kg/m^3", above(0),
            "The starting density of its particles.");

@@ -36,9 +36,10 @@ template <class K> void keysOf(K& k, materials::JohnsonCookDamage& p) {
   k.number("D5", p.D5, required, "", any(), "D5, the temperature coefficient.");
   k.number("reference_strain_rate", p.rate0, required, "1/s", above(0),
            "The plastic strain rate below which the rate term is 1.");
-  k.number("room_temperature", p.Troom, required, "K", above(0), "T* = 0 of the temperature term.");
-  k.number("melt_temperature", p.Tmelt, required, "K", above("room_temperature", p.Troom),
-           "T* = 1 of the temperature term.");
+  k.number("room_temperature", p.Troom, required, "K", temperature(above(0)),
+           "T* = 0 of the temperature term.");
+  k.number("melt_temperature", p.Tmelt, required, "K",
+           temperature(above("room_temperature", p.Troom)), "T* = 1 of the temperature term.");
 }
 
 const auto kKeys = [](auto& k, auto& p) -> decltype(keysOf(k, p)) { keysOf(k, p); };

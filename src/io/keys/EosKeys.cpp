@@ -22,14 +22,15 @@ template <class K> void keysOf(K& k, materials::IdealGas& p, double&) {
 template <class K> void keysOf(K& k, materials::LinearEos& p, double& minPressure) {
   k.section("linear",
             "p = K (rho/rho0 - 1): a barotropic solid or liquid; the energy plays no part.");
-  k.number("bulk_modulus", p.K, required, "Pa", above(0), "K, the bulk modulus.");
+  k.number("bulk_modulus", p.K, required, "Pa", modulus(above(0)), "K, the bulk modulus.");
   tensionLimit(k, minPressure);
 }
 
 template <class K> void keysOf(K& k, materials::MieGruneisen& p, double& minPressure) {
   k.section("mie_gruneisen",
             "Mie-Gruneisen on a linear Us-up Hugoniot (Lam, Shen & Gong 2001, Eqs. 4-6).");
-  k.number("c0", p.C0, required, "m/s", above(0), "C0, the bulk sound speed: Us at up = 0.");
+  k.number("c0", p.C0, required, "m/s", soundSpeed(above(0)),
+           "C0, the bulk sound speed: Us at up = 0.");
   // A slope <= 0 would slow the shock as it strengthens; a negative Gruneisen coefficient (a
   // material that contracts as it heats) is outside what the linear Us-up form describes.
   k.number("s", p.S, required, "", above(0), "S, the slope of the Us-up Hugoniot.");
@@ -43,7 +44,7 @@ template <class K> void keysOf(K& k, materials::Tillotson& p, double& minPressur
             "Tillotson (1962), as used for planetary impacts (Melosh 1989, Sec. 3.5).");
   k.number("a", p.a, required, "", atLeast(0), "a of the energy term (a + b/w) rho e.");
   k.number("b", p.b, required, "", atLeast(0), "b of the energy term (a + b/w) rho e.");
-  k.number("A", p.A, required, "Pa", above(0), "A, the linear compression term A mu.");
+  k.number("A", p.A, required, "Pa", modulus(above(0)), "A, the linear compression term A mu.");
   // Tillotson's and Melosh's tables have B > 0 for every material: compression stiffens.
   k.number("B", p.B, required, "Pa", atLeast(0), "B, the quadratic compression term B mu^2.");
   k.number("alpha", p.alpha, required, "", atLeast(0),

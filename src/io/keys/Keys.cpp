@@ -1,6 +1,7 @@
 // The bounds, defaults and checks of Keys.hpp.
 #include "Keys.hpp"
 
+#include <cmath>
 #include <fmt/format.h>
 
 namespace spall::io::keys {
@@ -44,7 +45,29 @@ bool Bound::holds(double v) const {
   return false;
 }
 
+namespace {
+// 1e5 rather than 100000: the plausible ranges span decades.
+std::string decade(double v) {
+  std::string s = fmt::format("{:.3g}", v);
+  if (const auto e = s.find("e+"); e != std::string::npos)
+    s = s.substr(0, e) + "e" + std::to_string(std::stoi(s.substr(e + 2)));
+  return s;
+}
+} // namespace
+
 std::string Bound::text() const {
+  const std::string t = strictText();
+  if (!plausible.set()) return t;
+  std::string w = "warns";
+  if (!plausible.low.empty())
+    w += " below " + decade(plausible.lo) + " (" + std::string(plausible.low) + ")";
+  if (!plausible.high.empty())
+    w += std::string(plausible.low.empty() ? "" : " or") + " above " + decade(plausible.hi) + " (" +
+         std::string(plausible.high) + ")";
+  return t.empty() ? w : t + "; " + w;
+}
+
+std::string Bound::strictText() const {
   const std::string a = loKey.empty() ? plain(lo) : std::string(loKey);
   const std::string b = hiKey.empty() ? plain(hi) : std::string(hiKey);
   switch (kind) {
@@ -96,10 +119,22 @@ void Read::rule(std::string_view key, std::string_view text, std::string_view wh
                              deck_detail::formatNumber(got), r_.context().human, text, why));
 }
 
+void Read::plausible(std::string_view key, double v, std::string_view unit, const Bound& b) const {
+  const Plausible& p = b.plausible;
+  if (!p.set() || v == 0.0 || !std::isfinite(v)) return;
+  const bool low = v < p.lo && !p.low.empty(), high = v > p.hi && !p.high.empty();
+  if (!low && !high) return;
+  const std::string u = unit.empty() ? std::string() : fmt::format(" {}", unit);
+  r_.warn(key,
+          fmt::format("{} = {}{} is {} {}{}: {}", r_.quoted(key), deck_detail::formatNumber(v), u,
+                      low ? "below" : "above", decade(low ? p.lo : p.hi), u, low ? p.low : p.high));
+}
+
 void Read::check(std::string_view key, double v, std::string_view unit, const Bound& b) const {
+  plausible(key, v, unit, b);
   if (b.holds(v)) return;
   // A bound by other keys says their values: "> e_iv, e_iv = 2e6".
-  std::string what = b.text();
+  std::string what = b.strictText();
   if (b.kind == Bound::Kind::Closed || b.kind == Bound::Kind::OpenClosed ||
       b.kind == Bound::Kind::ClosedOpen || b.kind == Bound::Kind::Open)
     what = "in " + what;

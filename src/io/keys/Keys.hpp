@@ -33,6 +33,16 @@
 
 namespace spall::io::keys {
 
+// Where a value is probably a slip (a unit typed wrong), not an error: outside [lo, hi] the reader
+// warns, saying what a value below lo (`low`) or above hi (`high`) suggests. 0 is exempt (a term
+// switched off).
+struct Plausible {
+  double lo = -std::numeric_limits<double>::infinity();
+  double hi = std::numeric_limits<double>::infinity();
+  std::string_view low{}, high{};
+  bool set() const { return !low.empty() || !high.empty(); }
+};
+
 // What a number must be: "> 0", "[0, 1]", "> room_temperature" (another key of the same table,
 // read before this one).
 struct Bound {
@@ -44,13 +54,23 @@ struct Bound {
   std::string_view hiKey{};        // the same for hi
   const double* hiValue = nullptr;
   bool infinite = false; // inf is a value (h_max = inf: no bound)
+  Plausible plausible{};
   bool holds(double v) const;
   Bound orInfinite() const {
     Bound b = *this;
     b.infinite = true;
     return b;
   }
+  // The same bound, warning outside [lo, hi] (Plausible).
+  Bound warnOutside(double lo, double hi, std::string_view low, std::string_view high) const {
+    Bound b = *this;
+    b.plausible = {lo, hi, low, high};
+    return b;
+  }
+  // The bound, then where it warns and why: "> 0; warns below 1e+05 (MPa typed for Pa?) or
+  // above 1e+13".
   std::string text() const;
+  std::string strictText() const; // the bound alone: what an error message says
 };
 inline Bound any() {
   return {};
@@ -92,6 +112,28 @@ inline Bound within(double lo, std::string_view hiKey, const double& hi) {
 }
 inline Bound between(double lo, std::string_view hiKey, const double& hi) {
   return {Bound::Kind::Open, lo, 0.0, {}, nullptr, hiKey, &hi};
+}
+
+// The slips plausibility catches (Plausible), each range wide enough for every material a
+// hydrocode meets: moduli from rubber's shear modulus (~1e6 Pa) to diamond's bulk modulus
+// (4.4e11 Pa); strengths from soft clay (~1e4 Pa) to ceramics and diamond (~1e10 Pa); room and
+// melt temperatures from liquid nitrogen (77 K) to tungsten's melt (3695 K); sound speeds from
+// foams and soils (~100 m/s) to beryllium and diamond (12-18 km/s); specific heats from lead's
+// 129 J/(kg K) to water's 4186. A value typed in the wrong unit is 1e3 to 1e9 away from them.
+inline Bound modulus(Bound b) {
+  return b.warnOutside(1e5, 1e13, "MPa or GPa typed for Pa?", "stiffer than diamond");
+}
+inline Bound strength(Bound b) {
+  return b.warnOutside(1e4, 1e11, "MPa typed for Pa?", "stronger than diamond");
+}
+inline Bound temperature(Bound b) {
+  return b.warnOutside(50.0, 6000.0, "Celsius typed for kelvin?", "hotter than any solid melts");
+}
+inline Bound soundSpeed(Bound b) {
+  return b.warnOutside(100.0, 2e4, "km/s typed for m/s?", "faster than any material's");
+}
+inline Bound specificHeat(Bound b) {
+  return b.warnOutside(50.0, 1e4, "kJ/(kg K) typed for J/(kg K)?", "above any solid's");
 }
 
 // A bound by another key's value reads it when checked: never from a temporary.
@@ -407,6 +449,7 @@ public:
 
 private:
   void check(std::string_view key, double v, std::string_view unit, const Bound& b) const;
+  void plausible(std::string_view key, double v, std::string_view unit, const Bound& b) const;
   // An integer in its bound and in I's range.
   template <class I>
   I toInteger(std::string_view key, std::int64_t v, std::string_view unit, const Bound& b) const {

@@ -12,6 +12,8 @@ template <class K> void keysOf(K& k, MaterialConfig& m) {
           "What bodies and jets call it by; --set addresses it as material.NAME.");
   k.number("density", m.density, required, "kg/m^3", above(0),
            "rho0, the reference density (a porous material's: its matrix's).");
+  k.note("density", "warns outside [50, 25000] unless the eos is ideal_gas (g/cm^3 typed for "
+                    "kg/m^3?): aerogels and foams to osmium's 22590");
   k.table("eos", "required unless strength is cap", "not with a cap strength",
           "The equation of state: {type = ..., ...}.");
   k.table("strength", "none", "", "The strength model: {type = ..., ...}; none: a fluid.");

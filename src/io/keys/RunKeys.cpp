@@ -20,8 +20,13 @@ template <class K> void keysOf(K& k, RunConfig& run) {
                 "is 'rz' (axisymmetric: x = r, y = z), which needs run.dimension 2 (run.dimension "
                 "is {})",
                 run.dimension));
+  k.choice("units", run.units, kUnitNames, keep,
+           "si: values a unit slip would give are warned of; scaled: a consistent "
+           "nondimensional set (a benchmark), which none of SI's bounds fit.");
   k.number("end_time", run.end_time, required, "s", above(0),
            "Simulated time at which the run stops.");
+  k.note("end_time", "warns beyond 100 or under 0.01 times the largest body's crossing time by "
+                     "sound and flow (a time unit typed wrong?)");
   k.integer("max_steps", run.max_steps, Depends{"no limit"}, "", atLeast(0),
             "The run stops after this many steps even before end_time.");
   k.number("resolution", run.resolution, keep, "", above(0),
