@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 namespace spall::io {
@@ -115,6 +116,26 @@ std::string slurp(const std::string& path) {
   return s.str();
 }
 
+// A snapshot .xmf's text, read once while the file stays as it was: the series is rewritten at
+// every snapshot, and reading every earlier one again would cost O(n^2) over a run.
+const std::string& cachedText(const std::string& path) {
+  struct Entry {
+    std::filesystem::file_time_type written;
+    std::uintmax_t size = 0;
+    std::string text;
+  };
+  static std::map<std::string, Entry> cache;
+  std::error_code ec;
+  const auto written = std::filesystem::last_write_time(path, ec);
+  const auto size = ec ? 0 : std::filesystem::file_size(path, ec);
+  auto it = cache.find(path);
+  if (ec || it == cache.end() || it->second.written != written || it->second.size != size) {
+    std::string text = slurp(path); // throws for a missing file
+    it = cache.insert_or_assign(path, Entry{written, size, std::move(text)}).first;
+  }
+  return it->second.text;
+}
+
 } // namespace
 
 void writeSnapshotXdmf(const std::string& xmfPath, const std::string& h5FileName, int dimension,
@@ -167,7 +188,7 @@ void writeSeriesXdmf(const std::string& seriesPath,
        "CollectionType=\"Temporal\">\n";
   for (const auto& [t, file] : sorted) {
     // The snapshot's own grid (writeSnapshotXdmf's, its lines indented by 2), with its time.
-    const std::string text = slurp((dir / file).string());
+    const std::string& text = cachedText((dir / file).string());
     const std::size_t open = text.find("  <Grid ");
     const std::size_t close = text.rfind("  </Grid>");
     const std::size_t eol = open == std::string::npos ? open : text.find('\n', open);
