@@ -316,7 +316,8 @@ void DeckReader::readPenetration(const TableReader& r, PenetrationConfig& c,
 }
 
 std::string resolvedText(toml::table root, const std::string& path,
-                         const std::vector<std::string>& overrides) {
+                         const std::vector<std::string>& overrides,
+                         const std::vector<std::string>& libraries) {
   // A jet's rows are inline (inlineJetFiles): its file, relative to this deck, would not be found
   // from where the deck as run is read again.
   if (toml::array* jets = root["jet"].as_array())
@@ -335,6 +336,7 @@ std::string resolvedText(toml::table root, const std::string& path,
     os << " --set " << flat;
   }
   os << "\n# every default the reader applied is written out\n";
+  for (const auto& l : libraries) os << "# material library: " << l << ", merged in\n";
   std::ostringstream body;
   body << root << "\n";
   os << dd::shortestFloats(body.str());
@@ -354,6 +356,7 @@ Deck loadDeck(const std::string& path, const std::vector<std::string>& overrides
                     std::string(e.description()));
   }
   dd::applyOverrides(root, overrides, path);
+  const auto libraries = dd::inlineMaterialLibrary(root, path);
   dd::inlineJetFiles(root, path);
 
   Deck deck;
@@ -361,7 +364,7 @@ Deck loadDeck(const std::string& path, const std::vector<std::string>& overrides
   DeckNotes notes;
   DeckReader(root, path, notes).read(deck);
   dd::writeDefaults(root, notes.defaults);
-  deck.resolved_toml = resolvedText(root, path, overrides);
+  deck.resolved_toml = resolvedText(root, path, overrides, libraries);
   deck.warnings = std::move(notes.warnings);
   return deck;
 }

@@ -96,7 +96,13 @@ bool before(const SourceLocation& a, const SourceLocation& b) {
 
 SourceLocation locate(const toml::source_region& source, const std::string& deckPath) {
   if (!source.path) return {deckPath, 0, 0};
-  if (*source.path != deckPath) return {*source.path, 0, 0};
+  // An override's value ("--set KEY=VALUE") has no line of its own; another file (a material
+  // library's) does.
+  if (*source.path != deckPath)
+    return source.path->starts_with("--set ")
+               ? SourceLocation{*source.path, 0, 0}
+               : SourceLocation{*source.path, static_cast<int>(source.begin.line),
+                                static_cast<int>(source.begin.column)};
   return {deckPath, static_cast<int>(source.begin.line), static_cast<int>(source.begin.column)};
 }
 

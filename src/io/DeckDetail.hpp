@@ -179,6 +179,9 @@ void readMaterial(const TableReader& r, MaterialConfig& m);
 // length, velocity, insert_time]) before the deck is resolved, so that deck.toml and checkpoints
 // carry the segments themselves; then each segment made a body named NAME_segmentK.
 void inlineJetFiles(toml::table& root, const std::string& deckPath);
+// Merges each [[material]]'s `library` file into it (the deck's keys win) and drops the key;
+// returns "NAME (FILE)" for each one used. Throws DeckError at the name or in the file.
+std::vector<std::string> inlineMaterialLibrary(toml::table& root, const std::string& deckPath);
 void readJet(const TableReader& r, std::size_t dimension, bool rz,
              const std::vector<MaterialConfig>& materials, std::vector<BodyConfig>& bodies,
              const std::string& name);

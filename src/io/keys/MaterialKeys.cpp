@@ -10,6 +10,8 @@ template <class K> void keysOf(K& k, MaterialConfig& m) {
   k.section("", "A material: its reference density and its models, each a table with a type.");
   k.other("name", "string", "required", "", "unique, non-empty, no '.'",
           "What bodies and jets call it by; --set addresses it as material.NAME.");
+  k.other("library", "string", "none", "", "a file of decks/materials (NAME.toml)",
+          "A published set to start from: its keys fill what this entry leaves out.");
   k.number("density", m.density, required, "kg/m^3", above(0),
            "rho0, the reference density (a porous material's: its matrix's).");
   k.note("density", "warns outside [50, 25000] unless the eos is ideal_gas (g/cm^3 typed for "

@@ -1025,3 +1025,57 @@ TEST_F(DeckTest, LinearVelocityTakesADimByDimGradient) {
                       "body.target.fixed=true"});
   EXPECT_NE(std::string(e.what()).find("velocity field"), std::string::npos) << e.what();
 }
+
+// material.library (decks/materials): the file's keys fill what the entry leaves out, the entry's
+// win (an eos table of the same type merges key by key), errors point at the name or into the file.
+namespace {
+std::string withLibrary(const std::string& materialLines) {
+  std::string deck = kDeck1D;
+  const std::string own =
+      "density = 8930.0\n"
+      "eos = { type = \"mie_gruneisen\", c0 = 3940.0, s = 1.49, gamma0 = 2.02 }\n";
+  deck.replace(deck.find(own), own.size(), materialLines);
+  return deck;
+}
+} // namespace
+
+TEST_F(DeckTest, MaterialLibraryFillsWhatTheEntryLeavesOut) {
+  // The shipped decks/materials/copper.toml, found through the built-in path.
+  const Deck d = load(withLibrary("library = \"copper\"\n"));
+  EXPECT_DOUBLE_EQ(d.materials[0].density, 8930.0);
+  const auto& mg = std::get<spall::materials::MieGruneisen>(d.materials[0].eos.model);
+  EXPECT_DOUBLE_EQ(mg.C0, 3940.0);
+  EXPECT_DOUBLE_EQ(mg.Gamma0, 2.02);
+  EXPECT_NE(d.resolved_toml.find("# material library: copper ("), std::string::npos);
+  EXPECT_EQ(d.resolved_toml.find("library ="), std::string::npos); // inlined: the deck as run
+                                                                   // needs no library
+  // The entry's keys win; an eos of the same type takes the rest from the file.
+  const Deck e =
+      load(withLibrary("library = \"copper\"\ndensity = 9000.0\neos = { min_pressure = -1e9 }\n"));
+  EXPECT_DOUBLE_EQ(e.materials[0].density, 9000.0);
+  EXPECT_DOUBLE_EQ(std::get<spall::materials::MieGruneisen>(e.materials[0].eos.model).C0, 3940.0);
+  EXPECT_DOUBLE_EQ(e.materials[0].eos.min_pressure, -1e9);
+  // Another type is the entry's own model, whole.
+  const Deck f = load(
+      withLibrary("library = \"copper\"\neos = { type = \"linear\", bulk_modulus = 1.4e11 }\n"));
+  EXPECT_DOUBLE_EQ(std::get<spall::materials::LinearEos>(f.materials[0].eos.model).K, 1.4e11);
+}
+
+TEST_F(DeckTest, MaterialLibraryBesideTheDeckComesFirstAndErrorsPointIntoIt) {
+  std::filesystem::create_directories(dir_ / "materials");
+  write("# a local set\ndensity = 1234.0\neos = { type = \"linear\", bulk_modulus = 1e10 }\n",
+        "materials/copper.toml");
+  EXPECT_DOUBLE_EQ(load(withLibrary("library = \"copper\"\n")).materials[0].density, 1234.0);
+  // A bad value in the file is reported at its line in the file.
+  write("density = 8000.0\neos = { type = \"linear\", bulk_modulus = -1.0 }\n",
+        "materials/bad.toml");
+  const DeckError bad = error(withLibrary("library = \"bad\"\n"));
+  EXPECT_EQ(bad.where().file, (dir_ / "materials" / "bad.toml").string()) << bad.what();
+  EXPECT_EQ(bad.where().line, 2) << bad.what();
+  write("name = \"x\"\ndensity = 8000.0\n", "materials/named.toml");
+  EXPECT_NE(std::string(error(withLibrary("library = \"named\"\n")).what()).find("'name'"),
+            std::string::npos);
+  // An unknown name: at the entry's value, with the near miss and what the library holds.
+  expectError(withLibrary("library = \"coper\"\n"), 13, 11, "did you mean 'copper'?");
+  expectError(withLibrary("library = \"../deck\"\n"), 13, 11, "letters, digits");
+}
