@@ -1,5 +1,8 @@
 #include "spall/app/BodyGenerator.hpp"
 
+#include "BodyShape.hpp"
+#include "GradedSites.hpp"
+
 #include "spall/app/SystemInfo.hpp"
 #include "spall/core/Random.hpp"
 #include "spall/kernels/Kernels.hpp"
@@ -16,78 +19,9 @@ namespace spall::app {
 
 namespace {
 
-template <int Dim> Vec<Dim> toVec(const std::vector<double>& a) {
-  Vec<Dim> v = Vec<Dim>::Zero();
-  for (int d = 0; d < Dim && d < static_cast<int>(a.size()); ++d) v[d] = a[d];
-  return v;
-}
-
-template <int Dim> struct Shape {
-  const ShapeConfig& c;
-  Vec<Dim> center() const {
-    switch (c.type) {
-    case ShapeType::Box:
-      return 0.5 * (toVec<Dim>(c.min) + toVec<Dim>(c.max));
-    case ShapeType::Cylinder:
-      return toVec<Dim>(c.base) + 0.5 * c.length * toVec<Dim>(c.axis).normalized();
-    case ShapeType::Sphere:
-    case ShapeType::Ring:
-      break;
-    }
-    return toVec<Dim>(c.center);
-  }
-  // Radius of a ball about center() that holds the shape.
-  double extent() const {
-    switch (c.type) {
-    case ShapeType::Box:
-      return 0.5 * (toVec<Dim>(c.max) - toVec<Dim>(c.min)).norm();
-    case ShapeType::Cylinder:
-      return std::hypot(c.radius, 0.5 * c.length);
-    case ShapeType::Ring:
-      return c.outer_radius;
-    case ShapeType::Sphere:
-      break;
-    }
-    return c.radius;
-  }
-  // Length, area or volume (Dim).
-  double measure() const {
-    const double pi = std::numbers::pi;
-    switch (c.type) {
-    case ShapeType::Box:
-      return (toVec<Dim>(c.max) - toVec<Dim>(c.min)).prod();
-    case ShapeType::Cylinder:
-      return pi * c.radius * c.radius * c.length;
-    case ShapeType::Ring:
-      return pi * (c.outer_radius * c.outer_radius - c.inner_radius * c.inner_radius);
-    case ShapeType::Sphere:
-      break;
-    }
-    return Dim == 1   ? 2.0 * c.radius
-           : Dim == 2 ? pi * c.radius * c.radius
-                      : 4.0 / 3.0 * pi * std::pow(c.radius, 3);
-  }
-  bool contains(const Vec<Dim>& x) const {
-    switch (c.type) {
-    case ShapeType::Box:
-      for (int d = 0; d < Dim; ++d)
-        if (x[d] < c.min[d] || x[d] >= c.max[d]) return false;
-      return true;
-    case ShapeType::Sphere:
-      return (x - toVec<Dim>(c.center)).norm() < c.radius;
-    case ShapeType::Ring: {
-      const double r = (x - toVec<Dim>(c.center)).norm();
-      return r >= c.inner_radius && r < c.outer_radius;
-    }
-    case ShapeType::Cylinder:
-      break;
-    }
-    const Vec<Dim> axis = toVec<Dim>(c.axis).normalized();
-    const Vec<Dim> rel = x - toVec<Dim>(c.base);
-    const double t = rel.dot(axis);
-    return t >= 0.0 && t < c.length && (rel - t * axis).norm() < c.radius;
-  }
-};
+using sites::Shape;
+using sites::Site;
+using sites::toVec;
 
 // Lattice sites about the origin with nearest spacing dx: cubic, or hexagonal (triangular in 2D,
 // hexagonal close packing in 3D). Returns the volume per site.
@@ -135,10 +69,16 @@ double forEachLatticeSite(bool hexagonal, double dx, double radius, F&& visit) {
 // finer body's particles near the other are looked up in a grid of the coarser body's (cell = that
 // reach), so a lookup sees ~100 candidates whatever the spacing ratio.
 template <int Dim>
-std::vector<std::int32_t> contactGroups(std::span<const Vec<Dim>> x,
-                                        std::span<const std::int32_t> body,
-                                        const std::vector<double>& spacing, bool merge) {
-  const std::size_t bodies = spacing.size();
+std::vector<std::int32_t>
+contactGroups(std::span<const Vec<Dim>> x, std::span<const std::int32_t> body,
+              std::span<const double> local, std::size_t bodies, bool merge) {
+  // A body's spacing here is its coarsest (a graded body's); a pair touches within 1.5 times
+  // the larger of its two particles' own spacings.
+  std::vector<double> spacing(bodies, 0.0);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const auto b = static_cast<std::size_t>(body[i]);
+    spacing[b] = std::max(spacing[b], local[i]);
+  }
   std::vector<std::int32_t> root(bodies);
   for (std::size_t b = 0; b < bodies; ++b) root[b] = static_cast<std::int32_t>(b);
   if (!merge || bodies < 2) return root;
@@ -192,7 +132,9 @@ std::vector<std::int32_t> contactGroups(std::span<const Vec<Dim>> x,
               auto it =
                   std::lower_bound(grid.begin(), grid.end(), std::make_pair(c, std::size_t{0}));
               for (; it != grid.end() && it->first == c; ++it)
-                if ((x[i] - x[it->second]).squaredNorm() < reach * reach) touching = true;
+                if (const double r = 1.5 * std::max(local[i], local[it->second]);
+                    (x[i] - x[it->second]).squaredNorm() < r * r)
+                  touching = true;
             }
       }
       if (touching) {
@@ -205,14 +147,10 @@ std::vector<std::int32_t> contactGroups(std::span<const Vec<Dim>> x,
   return root;
 }
 
-template <int Dim> struct Site {
-  Vec<Dim> x;
-  double volume;
-};
-
 // The lattice sites of a body's shape and the volume each stands for (run.resolution applied;
 // rz: the half-plane's sites, r > 0).
 template <int Dim> std::vector<Site<Dim>> latticeSites(const Deck& deck, const BodyConfig& body) {
+  if (body.grading) return sites::gradedSites<Dim>(deck, body);
   const Shape<Dim> shape{body.shape};
   const double dx = body.spacing / deck.run.resolution;
   const bool rz = deck.run.geometry == Geometry::RZ;
@@ -339,10 +277,12 @@ double fillBody(const Deck& deck, const std::vector<materials::Material>& materi
     const ParticleId idk = firstId + (k - row);
     id[k] = idk;
     Vec<Dim> xi = s.x;
+    // A graded body's offsets follow its local spacing.
+    const double jitterScale = body.grading ? std::pow(s.volume, 1.0 / Dim) : dx;
     if (body.jitter > 0.0)
       for (int d = 0; d < Dim; ++d)
-        xi[d] +=
-            body.jitter * dx * hashedUniform(deck.run.seed, idk, static_cast<std::uint64_t>(d));
+        xi[d] += body.jitter * jitterScale *
+                 hashedUniform(deck.run.seed, idk, static_cast<std::uint64_t>(d));
     if (rz) xi[0] = std::abs(xi[0]); // jitter never takes a ring across the axis
     x[k] = xi;
     v[k] = v0;
@@ -408,8 +348,10 @@ std::vector<BodySummary> generateBodies(const Deck& deck,
     const double detA = std::abs(A.determinant());
     // Particles (the shape's measure over a site's, hexagonal lattices being denser by at most
     // sqrt 2) and the lattice sites visited to find them (a cube about the shape).
-    made += 1.5 * shape.measure() / detA / std::pow(dx, Dim);
     const double across = 2.0 * shape.extent() * A.inverse().norm() / dx + 4.0;
+    if (body.grading && across < 1e8) sites::checkGradedLayers<Dim>(deck, body);
+    made += body.grading ? sites::gradedSiteEstimate<Dim>(deck, body)
+                         : 1.5 * shape.measure() / detA / std::pow(dx, Dim);
     if (!(made * perSite < available))
       throw DeckError(
           body.where,
@@ -417,7 +359,7 @@ std::vector<BodySummary> generateBodies(const Deck& deck,
                       "~{:.3g} particles with the bodies before it, ~{:.3g} GB on every "
                       "rank while they are made; {:.3g} GB are available",
                       body.name, dx, made, made * perSite / 1e9, available / 1e9));
-    if (!(across < 1e8 && std::pow(across, Dim) < 1e12))
+    if (!(across < 1e8 && (body.grading || std::pow(across, Dim) < 1e12)))
       throw DeckError(body.where,
                       fmt::format("body '{}': a spacing of {:g} m (after run.resolution) is "
                                   "{:.3g} times smaller than the shape",
@@ -470,9 +412,16 @@ std::vector<BodySummary> generateBodies(const Deck& deck,
   const auto bod = store[f.body];
   const std::size_t kept = store.localCount();
   if (f.contactGroup.valid()) {
-    std::vector<double> spacing;
-    for (const auto& b : summary) spacing.push_back(b.spacing);
-    const auto group = contactGroups<Dim>(x.first(kept), bod.first(kept), spacing,
+    // Each particle's own spacing: its body's, or a graded body's local one.
+    std::vector<double> local;
+    local.reserve(kept);
+    for (std::size_t b = 0; b < deck.bodies.size(); ++b) {
+      if (deck.bodies[b].insert_time > 0.0) continue;
+      for (const auto& site : sites[b])
+        local.push_back(deck.bodies[b].grading ? std::pow(site.volume, 1.0 / Dim)
+                                               : summary[b].spacing);
+    }
+    const auto group = contactGroups<Dim>(x.first(kept), bod.first(kept), local, summary.size(),
                                           deck.solver.contact == Contact::Auto);
     auto g = store[f.contactGroup];
     for (std::size_t i = 0; i < kept; ++i) g[i] = group[static_cast<std::size_t>(bod[i])];
@@ -494,6 +443,11 @@ std::size_t insertBody(const Deck& deck, const std::vector<materials::Material>&
     for (std::size_t i = row; i < store.localCount(); ++i)
       store[f.contactGroup][i] = static_cast<std::int32_t>(b);
   return sites.size();
+}
+
+std::string gradedText(const Deck& deck, std::size_t body) {
+  const auto& g = deck.bodies.at(body).grading;
+  return g ? fmt::format(" graded up to {:.4g} m", g->max_spacing / deck.run.resolution) : "";
 }
 
 // The first bending mode of a clamped-free beam (Euler-Bernoulli; the initial condition of Gray,

@@ -107,9 +107,11 @@ template <int Dim> std::size_t checkDim(const Deck& deck, const parallel::MpiCon
   fmt::print("deck {}: OK\n", deck.path);
   if (!deck.run.title.empty()) fmt::print("  title      {}\n", deck.run.title);
   fmt::print("  dimension  {}D, solver {}\n", Dim, methodSummary(deck));
-  for (const auto& b : sim.bodies())
-    fmt::print("  body       {:<16} {:>10} particles  mass {:.6g} kg  spacing {:.4g} m\n", b.name,
-               b.particles, b.mass, b.spacing);
+  for (std::size_t k = 0; k < sim.bodies().size(); ++k) {
+    const auto& b = sim.bodies()[k];
+    fmt::print("  body       {:<16} {:>10} particles  mass {:.6g} kg  spacing {:.4g} m{}\n", b.name,
+               b.particles, b.mass, b.spacing, gradedText(deck, k));
+  }
   fmt::print("  particles  {}\n  memory     ~{:.1f} MB (estimate)\n", sim.particles(),
              sim.memoryEstimate() / 1048576.0);
   fmt::print("  first dt   {:.4g} s ({}; end time {:.6g} s)\n", dt,

@@ -355,9 +355,12 @@ template <int Dim> void Simulation<Dim>::banner(RunLog& log, const fs::path& dir
   lines.push_back(fmt::format("deck {} | {}D | {} | {} rank{} x {} thread{}", deck_.path, Dim,
                               methodSummary(deck_), mpi_.size(), mpi_.size() > 1 ? "s" : "",
                               threadCount(), threadCount() > 1 ? "s" : ""));
-  for (const auto& b : bodies_)
-    lines.push_back(fmt::format("  body {:<16} {:>10} particles  mass {:.6g} kg  spacing {:.4g} m",
-                                b.name, b.particles, b.mass, b.spacing));
+  for (std::size_t k = 0; k < bodies_.size(); ++k) {
+    const auto& b = bodies_[k];
+    lines.push_back(
+        fmt::format("  body {:<16} {:>10} particles  mass {:.6g} kg  spacing {:.4g} m{}", b.name,
+                    b.particles, b.mass, b.spacing, gradedText(deck_, k)));
+  }
   lines.push_back(fmt::format("particles {} | memory ~{:.1f} MB | end time {:.6g} s | output {}",
                               particles(), memoryEstimate() / 1048576.0, deck_.run.end_time,
                               dir.string()));

@@ -227,6 +227,12 @@ void DeckReader::readBody(const TableReader& r, const std::vector<MaterialConfig
     r.check(det != 0.0, "lattice_transform", "invertible (non-zero determinant)", det);
   }
   keys::readVelocityFields(r, dimension_, b);
+  keys::readGrading(r, dimension_, b);
+  // Graded bodies are layers of their own lattice (app/GradedSites.cpp).
+  if (b.grading && (b.lattice != Lattice::Cubic || b.lattice_transform))
+    r.fail("grading", r.quoted("grading") +
+                          " lays the body in layers of a cubic lattice: it takes neither lattice = "
+                          "\"hexagonal\" nor lattice_transform");
   // A fixed body has no acceleration: at rest it is a clamp, with a uniform velocity a piston
   // driven at that speed. A velocity field would shear it forever.
   if (b.fixed &&

@@ -15,6 +15,9 @@ void checkMpmScope(const Deck& deck) {
     fail(deck.solver.where, "decomposition.partitioner = \"metis\" (a graph of neighbor pairs)");
   for (const auto& b : deck.boundaries)
     if (b.type == BoundaryType::Periodic) fail(b.where, "a boundary of type 'periodic'");
+  // The grid's cell is one size; particles of many sizes would see it differently.
+  for (const auto& b : deck.bodies)
+    if (b.grading) fail(b.grading->where, "a graded body (body '" + b.name + "', grading)");
 }
 
 } // namespace spall::io::deck_detail

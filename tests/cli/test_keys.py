@@ -96,6 +96,8 @@ check([s.split()[0] for s in sub] == want,
 bad = spall("keys", "no_such_section")
 check(bad.returncode == 2 and "no deck key" in bad.stderr, "an unknown prefix: exit 2, said so")
 
+# Sections with a required key of their own (not a typed table's).
+REQUIRED_IN = {p for p, typ, _, _, default, *_ in rows if default == "required" and typ is None}
 LITERAL = re.compile(r'^(-?[0-9][0-9.e+-]*|true|false|"[^"]*")$')
 
 
@@ -114,7 +116,10 @@ def entries(deck, section):
                 typed = section in ("material.eos", "material.strength", "material.damage",
                                     "material.porosity", "body.shape")
                 mpm = deck.get("solver", {}).get("method") == "mpm"
-                if (i == 0 and part in ARRAYS) or typed or (part == "mpm" and not mpm):
+                # Nor a table with keys of its own that are required (body.grading): `--set`
+                # of its defaults alone cannot make it whole.
+                partial = ".".join(parts[:i + 1]) in REQUIRED_IN
+                if (i == 0 and part in ARRAYS) or typed or (part == "mpm" and not mpm) or partial:
                     continue
                 v = {}
             if i == 0 and part in ARRAYS:

@@ -22,6 +22,11 @@ of resolution 0.5's (measured -4.1% and -3.7%; the rz bar stays at -3.7% up to 3
 the radius: the model's error against the test, since the wall's hold); MPM's, still 10%
 narrow at 8 rings across, falling at an order above 0.25 (measured 0.46).
 
+The penetration metric (issue 62, item 4) on the hydrodynamic rod (decks/rod_penetration_hydro_rz
+.toml, 5 us, resolutions 0.2 and 0.3, ~2 s): the depths (the tip near U_B t, 5-10 mm), the coarser
+run's error against the finer by default (the finer's own undefined), and against
+--reference-depth when given.
+
 usage: test_work_precision.py SPALL SOURCE_DIR
 """
 import math
@@ -99,5 +104,32 @@ with tempfile.TemporaryDirectory() as tmp:
             order = math.log2(coarse / fine)
             t.check(order > 0.25, f"Taylor ({series}): the face error falls, {coarse:.3f} to "
                                   f"{fine:.3f}, order {order:.2f} (> 0.25)")
+
+    # The penetration metric: the hydrodynamic rod to 5 us at two coarse resolutions, the coarser
+    # against the finer (the default reference) and against a given depth. The columns: series,
+    # res, particles, steps, wall s, depth_mm, max_depth_mm, depth_err, order(depth_err).
+    def depth_rows(*extra):
+        p = subprocess.run(["/usr/bin/python3", str(SRC / "tools" / "work_precision"),
+                            str(SRC / "decks" / "rod_penetration_hydro_rz.toml"),
+                            "--resolutions", "0.2,0.3", "--set", "run.end_time=5.0e-6",
+                            "--spall", t.spall, "--out", str(Path(tmp) / "pen.png"), *extra],
+                           capture_output=True, text=True, stdin=subprocess.DEVNULL)
+        print(p.stdout)
+        t.check(p.returncode == 0, f"tools/work_precision, penetration {extra}: exits 0 "
+                                   f"({p.stderr.strip()[-300:]})")
+        return {float(c[1]): c for c in (line.split() for line in p.stdout.splitlines())
+                if len(c) == 9 and c[0] == "default"}
+
+    rows = depth_rows()
+    if t.check(set(rows) == {0.2, 0.3}, f"penetration: both resolutions in the table ({rows})"):
+        d2, d3 = float(rows[0.2][5]), float(rows[0.3][5])
+        # The tip moves at ~U_B = 1785 m/s for 5 us: ~9 mm, less the entry transient.
+        t.check(5.0 < d2 < 10.0 and 5.0 < d3 < 10.0, f"penetration: depths {d2}, {d3} mm at 5 us")
+        t.check(abs(float(rows[0.2][7]) - abs(d2 / d3 - 1)) < 1e-4 and rows[0.3][7] == "-",
+                "penetration: the coarser run's error against the finer, the finer's undefined")
+        given = depth_rows("--reference-depth", "8.0")
+        if 0.3 in given:
+            t.check(abs(float(given[0.3][7]) - abs(float(given[0.3][5]) / 8.0 - 1)) < 1e-4,
+                    "penetration: --reference-depth 8.0 gives each run's error against 8 mm")
 
 t.finish()

@@ -7,9 +7,13 @@
 #include "spall/io/Deck.hpp"
 #include "spall/materials/MaterialUpdate.hpp"
 
+#include <string>
 #include <vector>
 
 namespace spall::app {
+
+// " graded up to S m" for a graded body (its coarsest spacing after run.resolution), else "".
+std::string gradedText(const Deck& deck, std::size_t body);
 
 struct BodySummary {
   std::string name;

@@ -208,6 +208,25 @@ enum class Lattice { Cubic, Hexagonal };
 inline constexpr NameTable<Lattice, 2> kLatticeNames{
     {{{Lattice::Cubic, "cubic"}, {Lattice::Hexagonal, "hexagonal"}}}};
 
+// A body's graded spacing: `spacing` within `within` of a reference, growing by `ratio` per
+// particle layer beyond it up to `max_spacing` (app/GradedSites.cpp lays the layers). The
+// reference is exactly one of a point, a line {point, direction} or a plane {point, normal}.
+struct GradingLine {
+  std::vector<double> point, direction;
+};
+struct GradingPlane {
+  std::vector<double> point, normal;
+};
+struct GradingConfig {
+  double within = 0.0;
+  double ratio = 1.05;
+  double max_spacing = 0.0; // before run.resolution
+  std::vector<double> point;
+  std::optional<GradingLine> line;
+  std::optional<GradingPlane> plane;
+  SourceLocation where;
+};
+
 struct BodyConfig {
   std::string name;
   std::string material;    // name as in the deck
@@ -229,6 +248,7 @@ struct BodyConfig {
   std::optional<LinearVelocityConfig> linear_velocity;
   std::optional<SineVelocityConfig> sine_velocity;
   bool fixed = false; // held in place: v = 0, a = 0 (a clamp); still carries stress
+  std::optional<GradingConfig> grading;
   SourceLocation where;
 };
 

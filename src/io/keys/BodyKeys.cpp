@@ -4,6 +4,7 @@
 #include "Keys.hpp"
 
 #include <cmath>
+#include <type_traits>
 
 namespace spall::io::keys {
 
@@ -59,6 +60,39 @@ template <class K> void keysOf(K& k, BodyConfig& b) {
   k.note("fixed", "no velocity field");
   k.table("sine_velocity", "none", "",
           "Adds v = amplitude sin(wavevector . (x - origin)), a standing wave's velocity.");
+  k.table("grading", "none", "SPH and ASPH; a cubic lattice",
+          "Graded spacing: {within, ratio, max_spacing} from a point, line or plane.");
+}
+
+template <class K> void keysOf(K& k, GradingConfig& g) {
+  k.section("", "Graded spacing: `spacing` within `within` of the reference, then layers each "
+                "`ratio` times thicker than the one before, up to `max_spacing`.");
+  k.number("within", g.within, required, "m", atLeast(0),
+           "The distance from the reference kept at the body's spacing.");
+  k.number("ratio", g.ratio, keep, "", within(1.0, 2.0),
+           "The growth of the spacing from one layer to the next.");
+  k.note("ratio",
+         "a plane wave crossing the layers reflects 0.9% of its amplitude at 1.05, 0.3% at 1.02 "
+         "(decks/graded_plane_wave_1d.toml)");
+  k.number("max_spacing", g.max_spacing, required, "m", above(0),
+           "The largest spacing, divided by run.resolution; at least the body's spacing.");
+  k.vector("point", g.point, Depends{"one of point, line, plane"}, "m", "",
+           "A point reference: layers are spherical shells (rings in 2D) about it.");
+  k.table("line", "none", "2D or 3D",
+          "A line reference {point, direction}: layers are cylinders about it (strips in 2D).");
+  k.table("plane", "none", "", "A plane reference {point, normal}: layers are slabs along it.");
+}
+
+template <class K> void keysOf(K& k, GradingLine& l) {
+  k.section("", "A line from which a graded body's spacing grows.");
+  k.vector("point", l.point, required, "m", "", "A point on the line.");
+  k.vector("direction", l.direction, required, "", "not zero", "Its direction (any length).");
+}
+
+template <class K> void keysOf(K& k, GradingPlane& p) {
+  k.section("", "A plane from which a graded body's spacing grows (on both sides).");
+  k.vector("point", p.point, required, "m", "", "A point on the plane.");
+  k.vector("normal", p.normal, required, "", "not zero", "Its normal (any length).");
 }
 
 template <class K> void boxKeys(K& k, ShapeConfig& s) {
@@ -176,6 +210,9 @@ std::vector<KeySection> body() {
       sectionOf<CantileverVelocityConfig>("body.cantilever_velocity", kKeys),
       sectionOf<LinearVelocityConfig>("body.linear_velocity", kKeys),
       sectionOf<SineVelocityConfig>("body.sine_velocity", kKeys),
+      sectionOf<GradingConfig>("body.grading", kKeys),
+      sectionOf<GradingLine>("body.grading.line", kKeys),
+      sectionOf<GradingPlane>("body.grading.plane", kKeys),
       sectionOf<JetConfig>("jet", kKeys),
   };
 }
@@ -247,6 +284,50 @@ void readVelocityFields(const deck_detail::TableReader& r, std::size_t dimension
   read("cantilever_velocity", b.cantilever_velocity);
   read("linear_velocity", b.linear_velocity);
   read("sine_velocity", b.sine_velocity);
+}
+
+void readGrading(const deck_detail::TableReader& r, std::size_t dimension, BodyConfig& b) {
+  const toml::table* t = r.subtable("grading");
+  if (!t) return;
+  const deck_detail::TableReader g(*t, r.context().child("grading"), r.deckPath(), r.notes());
+  g.allowOnly(*deck_detail::schemaKeys("body.grading"));
+  GradingConfig& c = b.grading.emplace();
+  c.where = r.whereValue("grading");
+  Read read(g, dimension);
+  keysOf(read, c);
+  // A reference's direction: the unit vector along `key` of sub-table `sub`.
+  const auto unit = [&](const deck_detail::TableReader& sub, const char* key,
+                        std::vector<double>& v) {
+    const double n = deck_detail::norm(v);
+    if (n == 0.0) sub.fail(key, sub.quoted(key) + " must not be the zero vector");
+    for (double& x : v) x /= n;
+  };
+  const auto readSub = [&](const char* key, auto& field, const char* dirKey) {
+    const toml::table* s = g.subtable(key);
+    if (!s) return;
+    const deck_detail::TableReader sub(*s, g.context().child(key), g.deckPath(), g.notes());
+    sub.allowOnly(*deck_detail::schemaKeys(std::string("body.grading.") + key));
+    Read visit(sub, dimension);
+    keysOf(visit, field.emplace());
+    if constexpr (std::is_same_v<std::decay_t<decltype(field)>, std::optional<GradingLine>>)
+      unit(sub, dirKey, field->direction);
+    else
+      unit(sub, dirKey, field->normal);
+  };
+  if (g.has("line") && dimension == 1)
+    g.fail("line", g.quoted("line") + " needs run.dimension 2 or 3 (in 1D a point or a plane)");
+  readSub("line", c.line, "direction");
+  readSub("plane", c.plane, "normal");
+  const int given = (c.point.empty() ? 0 : 1) + (c.line ? 1 : 0) + (c.plane ? 1 : 0);
+  if (given != 1)
+    r.fail("grading", r.quoted("grading") + " needs exactly one reference, point = [...], line = " +
+                          "{point, direction} or plane = {point, normal} (" +
+                          std::to_string(given) + " given)");
+  if (c.max_spacing < b.spacing)
+    g.fail("max_spacing", g.quoted("max_spacing") + " is " +
+                              deck_detail::formatNumber(c.max_spacing) +
+                              " m, below the body's spacing " +
+                              deck_detail::formatNumber(b.spacing) + " m (the finest spacing)");
 }
 
 JetConfig readJet(const deck_detail::TableReader& r, std::size_t dimension) {

@@ -559,6 +559,8 @@ void readBody(const deck_detail::TableReader& r, BodyConfig& b, std::size_t dime
 void readShape(const deck_detail::TableReader& r, ShapeConfig& s, std::size_t dimension, bool rz);
 // A body's velocity fields (added to its uniform velocity where the particles are made).
 void readVelocityFields(const deck_detail::TableReader& r, std::size_t dimension, BodyConfig& b);
+// A body's grading table, if given: one reference, unit directions, max_spacing >= spacing.
+void readGrading(const deck_detail::TableReader& r, std::size_t dimension, BodyConfig& b);
 // A [[jet]]'s keys but its name and segments (the deck reader makes the segments' bodies).
 struct JetConfig {
   std::string material;

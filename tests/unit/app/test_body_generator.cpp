@@ -2,7 +2,7 @@
 #include "spall/app/BodyGenerator.hpp"
 #include "spall/core/Random.hpp"
 
-#include "unit/FieldGroups.hpp"
+#include "unit/app/GeneratedBodies.hpp"
 
 #include <filesystem>
 #include <fstream>
@@ -23,16 +23,7 @@ Deck deckFrom(const std::string& name, int dim, const std::string& bodies) {
   return loadDeck(path.string());
 }
 
-template <int Dim> struct Generated {
-  ParticleStore store;
-  ParticleFields<Dim> f;
-  std::vector<app::BodySummary> bodies;
-  explicit Generated(const Deck& deck) {
-    fixtures::registerFields(store, f);
-    const std::vector<materials::Material> materials{{materials::IdealGas{1.4}, std::nullopt}};
-    bodies = app::generateBodies<Dim>(deck, materials, store, f);
-  }
-};
+template <int Dim> using Generated = fixtures::GeneratedBodies<Dim>;
 
 } // namespace
 
