@@ -277,12 +277,13 @@ double fillBody(const Deck& deck, const std::vector<materials::Material>& materi
     const ParticleId idk = firstId + (k - row);
     id[k] = idk;
     Vec<Dim> xi = s.x;
-    // A graded body's offsets follow its local spacing.
-    const double jitterScale = body.grading ? std::pow(s.volume, 1.0 / Dim) : dx;
-    if (body.jitter > 0.0)
+    if (body.jitter > 0.0) {
+      // A graded body's offsets follow its local spacing.
+      const double scale = body.grading ? std::pow(s.volume, 1.0 / Dim) : dx;
       for (int d = 0; d < Dim; ++d)
-        xi[d] += body.jitter * jitterScale *
-                 hashedUniform(deck.run.seed, idk, static_cast<std::uint64_t>(d));
+        xi[d] +=
+            body.jitter * scale * hashedUniform(deck.run.seed, idk, static_cast<std::uint64_t>(d));
+    }
     if (rz) xi[0] = std::abs(xi[0]); // jitter never takes a ring across the axis
     x[k] = xi;
     v[k] = v0;

@@ -4,7 +4,6 @@
 #include "Keys.hpp"
 
 #include <cmath>
-#include <type_traits>
 
 namespace spall::io::keys {
 
@@ -267,15 +266,36 @@ void readShape(const deck_detail::TableReader& r, ShapeConfig& s, std::size_t di
   }
 }
 
+namespace {
+
+// Key `key`'s inline table of `r` into `field`, read against its section, if present; then
+// `check(reader, field)` with the table's own reader (errors point into it).
+template <class T, class Check>
+void readSubtable(const deck_detail::TableReader& r, const char* key, const std::string& section,
+                  std::size_t dimension, std::optional<T>& field, Check&& check) {
+  const toml::table* t = r.subtable(key);
+  if (!t) return;
+  const deck_detail::TableReader sub(*t, r.context().child(key), r.deckPath(), r.notes());
+  sub.allowOnly(*deck_detail::schemaKeys(section));
+  Read visit(sub, dimension);
+  keysOf(visit, field.emplace());
+  check(sub, *field);
+}
+
+const auto kNoCheck = [](const deck_detail::TableReader&, const auto&) {};
+
+// A reference's direction: `v`, key `key` of `sub`, made a unit vector.
+void makeUnit(const deck_detail::TableReader& sub, const char* key, std::vector<double>& v) {
+  const double n = deck_detail::norm(v);
+  if (n == 0.0) sub.fail(key, sub.quoted(key) + " must not be the zero vector");
+  for (double& x : v) x /= n;
+}
+
+} // namespace
+
 void readVelocityFields(const deck_detail::TableReader& r, std::size_t dimension, BodyConfig& b) {
-  // Key `key`'s inline table into `field`, read against its section ("body.KEY"), if present.
   const auto read = [&](const char* key, auto& field) {
-    const toml::table* t = r.subtable(key);
-    if (!t) return;
-    const deck_detail::TableReader sub(*t, r.context().child(key), r.deckPath(), r.notes());
-    sub.allowOnly(*deck_detail::schemaKeys(std::string("body.") + key));
-    Read visit(sub, dimension);
-    keysOf(visit, field.emplace());
+    readSubtable(r, key, std::string("body.") + key, dimension, field, kNoCheck);
   };
   read("radial_velocity", b.radial_velocity);
   if (r.has("cantilever_velocity") && dimension < 2)
@@ -287,47 +307,33 @@ void readVelocityFields(const deck_detail::TableReader& r, std::size_t dimension
 }
 
 void readGrading(const deck_detail::TableReader& r, std::size_t dimension, BodyConfig& b) {
-  const toml::table* t = r.subtable("grading");
-  if (!t) return;
-  const deck_detail::TableReader g(*t, r.context().child("grading"), r.deckPath(), r.notes());
-  g.allowOnly(*deck_detail::schemaKeys("body.grading"));
-  GradingConfig& c = b.grading.emplace();
-  c.where = r.whereValue("grading");
-  Read read(g, dimension);
-  keysOf(read, c);
-  // A reference's direction: the unit vector along `key` of sub-table `sub`.
-  const auto unit = [&](const deck_detail::TableReader& sub, const char* key,
-                        std::vector<double>& v) {
-    const double n = deck_detail::norm(v);
-    if (n == 0.0) sub.fail(key, sub.quoted(key) + " must not be the zero vector");
-    for (double& x : v) x /= n;
-  };
-  const auto readSub = [&](const char* key, auto& field, const char* dirKey) {
-    const toml::table* s = g.subtable(key);
-    if (!s) return;
-    const deck_detail::TableReader sub(*s, g.context().child(key), g.deckPath(), g.notes());
-    sub.allowOnly(*deck_detail::schemaKeys(std::string("body.grading.") + key));
-    Read visit(sub, dimension);
-    keysOf(visit, field.emplace());
-    if constexpr (std::is_same_v<std::decay_t<decltype(field)>, std::optional<GradingLine>>)
-      unit(sub, dirKey, field->direction);
-    else
-      unit(sub, dirKey, field->normal);
-  };
-  if (g.has("line") && dimension == 1)
-    g.fail("line", g.quoted("line") + " needs run.dimension 2 or 3 (in 1D a point or a plane)");
-  readSub("line", c.line, "direction");
-  readSub("plane", c.plane, "normal");
-  const int given = (c.point.empty() ? 0 : 1) + (c.line ? 1 : 0) + (c.plane ? 1 : 0);
-  if (given != 1)
-    r.fail("grading", r.quoted("grading") + " needs exactly one reference, point = [...], line = " +
-                          "{point, direction} or plane = {point, normal} (" +
-                          std::to_string(given) + " given)");
-  if (c.max_spacing < b.spacing)
-    g.fail("max_spacing", g.quoted("max_spacing") + " is " +
-                              deck_detail::formatNumber(c.max_spacing) +
-                              " m, below the body's spacing " +
-                              deck_detail::formatNumber(b.spacing) + " m (the finest spacing)");
+  readSubtable(r, "grading", "body.grading", dimension, b.grading,
+               [&](const deck_detail::TableReader& g, GradingConfig& c) {
+                 c.where = r.whereValue("grading");
+                 if (g.has("line") && dimension == 1)
+                   g.fail("line", g.quoted("line") +
+                                      " needs run.dimension 2 or 3 (in 1D a point or a plane)");
+                 readSubtable(g, "line", "body.grading.line", dimension, c.line,
+                              [](const deck_detail::TableReader& sub, GradingLine& l) {
+                                makeUnit(sub, "direction", l.direction);
+                              });
+                 readSubtable(g, "plane", "body.grading.plane", dimension, c.plane,
+                              [](const deck_detail::TableReader& sub, GradingPlane& p) {
+                                makeUnit(sub, "normal", p.normal);
+                              });
+                 const int given = (c.point.empty() ? 0 : 1) + (c.line ? 1 : 0) + (c.plane ? 1 : 0);
+                 if (given != 1)
+                   r.fail("grading", r.quoted("grading") +
+                                         " needs exactly one reference, point = [...], line = "
+                                         "{point, direction} or plane = {point, normal} (" +
+                                         std::to_string(given) + " given)");
+                 if (c.max_spacing < b.spacing)
+                   g.fail("max_spacing", g.quoted("max_spacing") + " is " +
+                                             deck_detail::formatNumber(c.max_spacing) +
+                                             " m, below the body's spacing " +
+                                             deck_detail::formatNumber(b.spacing) +
+                                             " m (the finest spacing)");
+               });
 }
 
 JetConfig readJet(const deck_detail::TableReader& r, std::size_t dimension) {
