@@ -7,6 +7,7 @@
 #include "spall/io/Snapshot.hpp"
 #include "spall/io/Xdmf.hpp"
 
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <fmt/format.h>
@@ -31,31 +32,50 @@ struct HistoryRow {
   double wall = 0.0, imbalance = 1.0;
   std::uint64_t ghosts = 0, migrated = 0;
   double externalWork = 0.0; // by a confining pressure and damping, since t = 0
+  // The step's work (solver.time_bins): its substeps, the rows whose rates they computed (N a
+  // substep without bins), and each bin's particles at its start (columns bin_K with bins only).
+  std::uint64_t substeps = 0, evaluatedRows = 0;
+  std::vector<std::uint64_t> bins;
 };
 
 // The columns of history.csv, in order: the header and every row read this one list.
 std::vector<std::pair<const char*, std::string>> historyColumns(const HistoryRow& r) {
   const auto g = [](double v) { return fmt::format("{:.17g}", v); };
   const auto& t = r.totals;
-  return {{"step", fmt::format("{}", r.step)},
-          {"time", g(r.time)},
-          {"dt", g(r.dt)},
-          {"particles", fmt::format("{}", r.particles)},
-          {"mass", g(t.mass)},
-          {"momentum_x", g(t.momentum[0])},
-          {"momentum_y", g(t.momentum[1])},
-          {"momentum_z", g(t.momentum[2])},
-          {"kinetic_energy", g(t.kinetic)},
-          {"internal_energy", g(t.internal)},
-          {"total_energy", g(t.total())},
-          {"wall_seconds", fmt::format("{:.3f}", r.wall)},
-          {"imbalance", fmt::format("{:.4f}", r.imbalance)},
-          {"ghosts", fmt::format("{}", r.ghosts)},
-          {"migrated", fmt::format("{}", r.migrated)},
-          {"external_work", g(r.externalWork)}};
+  std::vector<std::pair<const char*, std::string>> columns{
+      {"step", fmt::format("{}", r.step)},
+      {"time", g(r.time)},
+      {"dt", g(r.dt)},
+      {"particles", fmt::format("{}", r.particles)},
+      {"mass", g(t.mass)},
+      {"momentum_x", g(t.momentum[0])},
+      {"momentum_y", g(t.momentum[1])},
+      {"momentum_z", g(t.momentum[2])},
+      {"kinetic_energy", g(t.kinetic)},
+      {"internal_energy", g(t.internal)},
+      {"total_energy", g(t.total())},
+      {"wall_seconds", fmt::format("{:.3f}", r.wall)},
+      {"imbalance", fmt::format("{:.4f}", r.imbalance)},
+      {"ghosts", fmt::format("{}", r.ghosts)},
+      {"migrated", fmt::format("{}", r.migrated)},
+      {"external_work", g(r.externalWork)},
+      {"substeps", fmt::format("{}", r.substeps)},
+      {"evaluated_rows", fmt::format("{}", r.evaluatedRows)}};
+  static constexpr std::array<const char*, 12> kBinNames{"bin_0", "bin_1", "bin_2",  "bin_3",
+                                                         "bin_4", "bin_5", "bin_6",  "bin_7",
+                                                         "bin_8", "bin_9", "bin_10", "bin_11"};
+  for (std::size_t k = 0; k < r.bins.size() && k < kBinNames.size(); ++k)
+    columns.emplace_back(kBinNames[k], fmt::format("{}", r.bins[k]));
+  return columns;
 }
 
 } // namespace
+
+// history.csv's bin_K columns: one a bin with solver.time_bins above 1 (methods/TimeBins.hpp).
+template <int Dim> std::size_t Simulation<Dim>::historyBins() const {
+  const int bins = deck_.solver.method == SolverMethod::Mpm ? 1 : deck_.solver.time_bins;
+  return bins > 1 ? static_cast<std::size_t>(bins) : 0;
+}
 
 // Creates the output directory's files, or continues them after a restart (whatever a crashed
 // run wrote after its checkpoint goes).
@@ -84,7 +104,9 @@ template <int Dim> void Simulation<Dim>::openLogs(const fs::path& dir, bool resu
     log.attach((dir / "run.log").string());
     std::ofstream(dir / "deck.toml") << deckAsRun(deck_, dir.string());
     std::string historyHeader;
-    for (const auto& [name, value] : historyColumns({}))
+    HistoryRow names;
+    names.bins.resize(historyBins());
+    for (const auto& [name, value] : historyColumns(names))
       historyHeader += (historyHeader.empty() ? "" : ",") + std::string(name);
     if (resumed) {
       // Whatever a crashed run wrote after its checkpoint goes; the rest continues.
@@ -330,7 +352,9 @@ void Simulation<Dim>::record(double dt, std::int64_t step, Clock::time_point wal
                    // Wall seconds of the whole chain, so a restarted run's history reads on.
                    wallOffset_ + std::chrono::duration<double>(Clock::now() - wall0).count(),
                    stats.imbalance, mpi_.sum(static_cast<std::uint64_t>(stats.ghosts)),
-                   stats.migrated, method_->externalWork()};
+                   stats.migrated, method_->externalWork(), stats.stepSubsteps,
+                   mpi_.sum(stats.stepRowEvaluations), stats.binPopulation};
+    row.bins.resize(historyBins()); // (step 0: none counted yet)
     if (history_.open()) {
       std::string line;
       for (const auto& [name, value] : historyColumns(row))

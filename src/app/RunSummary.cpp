@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -54,7 +55,7 @@ template <int Dim> struct Simulation<Dim>::RunReport {
   std::vector<std::pair<std::string, double>> memory; // bytes per particle, by part
   double accounted = 0.0;
   double ghostFraction = 0.0, meanNeighbors = 0.0;
-  std::uint64_t crossPairs = 0;
+  std::uint64_t crossPairs = 0, rowEvaluations = 0;
 };
 
 // Mass, momentum and total energy against their initial values, relative.
@@ -99,7 +100,12 @@ typename Simulation<Dim>::RunReport Simulation<Dim>::report(Clock::time_point wa
   r.wall = std::chrono::duration<double>(Clock::now() - wall0).count();
   // The stepping rate of this job: checkpoint writing is reported on its own line.
   r.steps = step_ - startStep_;
-  const double pSteps = static_cast<double>(particles()) * static_cast<double>(r.steps);
+  // With time bins a step is its substeps of the finest step: the rate counts those, so that
+  // it compares with a single-step run's over the same time (the rows they evaluated are in
+  // summary.json's time_bins).
+  const bool binned = deck_.solver.time_bins > 1 && deck_.solver.method != SolverMethod::Mpm;
+  const double substeps = binned ? static_cast<double>(st.substeps) : static_cast<double>(r.steps);
+  const double pSteps = static_cast<double>(particles()) * substeps;
   const double stepping = r.wall - st.phases[methods::kCheckpoint];
   r.rate = stepping > 0.0 ? pSteps / stepping : 0.0;
   conservationErrors(r);
@@ -118,6 +124,7 @@ typename Simulation<Dim>::RunReport Simulation<Dim>::report(Clock::time_point wa
     r.memory.emplace_back(part.name, b);
   }
   r.ghostFraction = mpi_.max(st.ghostFractionMax);
+  r.rowEvaluations = mpi_.sum(st.rowEvaluations);
   r.crossPairs = mpi_.sum(st.crossPairs) / 2;
   r.meanNeighbors = st.evaluations > 0
                         ? pairs / (static_cast<double>(st.evaluations) *
@@ -162,6 +169,14 @@ Simulation<Dim>::summaryLines(const RunReport& r, const RunOptions& options, int
                                 "evaluations (skin {:g})",
                                 r.meanNeighbors, st.listBuilds, st.evaluations,
                                 deck_.solver.neighbor_skin));
+  if (deck_.solver.time_bins > 1 && st.substeps > 0)
+    lines.push_back(fmt::format(
+        "time bins: {} substeps in {} steps, {:.1f}% of the rows of one step for all evaluated; "
+        "the last step's bins {}",
+        st.substeps, r.steps,
+        100.0 * static_cast<double>(r.rowEvaluations) /
+            std::max(1.0, static_cast<double>(particles()) * static_cast<double>(st.substeps)),
+        fmt::join(st.binPopulation, ":")));
   lines.push_back(fmt::format("memory: {:.0f} B/particle allocated ({})", r.accounted, memoryLine));
   if (checkpointsWritten_ > 0)
     lines.push_back(fmt::format(
@@ -290,6 +305,14 @@ void Simulation<Dim>::writeSummary(const RunReport& r, const RunOptions& options
   j["checkpoint"] = checkpoint;
   j["decomposition"] = decomposition;
   j["conservation"] = conservation;
+  // The work against N x steps: rows whose rates were computed over particles times substeps.
+  Json bins;
+  bins["bins"] = deck_.solver.time_bins;
+  bins["substeps"] = st.substeps;
+  bins["row_evaluations"] = r.rowEvaluations;
+  bins["particle_substeps"] = static_cast<double>(particles()) * static_cast<double>(st.substeps);
+  bins["populations"] = st.binPopulation;
+  j["time_bins"] = bins;
   writeSummaryFile(j);
 }
 

@@ -7,6 +7,7 @@
 #include "spall/methods/modules/DeformationGradient.hpp"
 #include "spall/methods/modules/FixedBodies.hpp"
 #include "spall/methods/modules/FrictionlessContact.hpp"
+#include "spall/methods/modules/HierarchicalSteps.hpp"
 #include "spall/methods/modules/Hydro.hpp"
 #include "spall/methods/modules/KernelCorrection.hpp"
 #include "spall/methods/modules/MaterialPoints.hpp"
@@ -182,6 +183,7 @@ std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck
     list.push_back(std::make_unique<methods::VelocityDamping<Dim>>(deck.damping->coefficient,
                                                                    deck.damping->until, fixed));
   if (!fixed.empty()) list.push_back(std::make_unique<methods::FixedBodies<Dim>>(fixed));
+  if (solver.time_bins > 1) list.push_back(std::make_unique<methods::HierarchicalSteps<Dim>>());
   // The deformation gradient: for recorded particles, or when snapshots ask for it.
   const auto& out = deck.output;
   const bool recordF =

@@ -103,6 +103,7 @@ private:
   void restoreState(const io::CheckpointHeader& h, bool sameLayout);
   // RunOutput.cpp
   void openLogs(const std::filesystem::path& dir, bool resumed, RunLog& log);
+  std::size_t historyBins() const;
   void resolveOutputFields();
   bool snapshotDue() const;
   void writeSnapshot(bool write = true);

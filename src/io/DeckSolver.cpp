@@ -18,6 +18,10 @@ void checkMpmScope(const Deck& deck) {
   // The grid's cell is one size; particles of many sizes would see it differently.
   for (const auto& b : deck.bodies)
     if (b.grading) fail(b.grading->where, "a graded body (body '" + b.name + "', grading)");
+  // The grid is solved for every node at once: one step for all its points.
+  if (deck.solver.time_bins > 1)
+    fail(deck.solver.where, "solver.time_bins = " + std::to_string(deck.solver.time_bins) +
+                                " (each point its own step)");
 }
 
 } // namespace spall::io::deck_detail

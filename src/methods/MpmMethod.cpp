@@ -122,7 +122,7 @@ template <int Dim> void MpmMethod<Dim>::evaluate(std::int64_t /*step*/, double /
 // One step of modified update-stress-last (Sulsky, Zhou & Schreyer 1995; Nairn 2003): the
 // stress of the state at t_n moves the grid, the particles follow the grid, and the stress is
 // updated last with the velocity gradient of the remapped grid velocities.
-template <int Dim> void MpmMethod<Dim>::advance(double dt, std::int64_t step, double time) {
+template <int Dim> double MpmMethod<Dim>::advance(double dt, std::int64_t step, double time) {
   if (!grid_) makeGrid();
   stats_.phases.time(kExchange, [&] { haloForStep(); });
   stats_.phases.time(kNeighbors, [&] { idOrder(); });
@@ -169,6 +169,7 @@ template <int Dim> void MpmMethod<Dim>::advance(double dt, std::int64_t step, do
       rebalanced_ = stats_.rebalances != before; // it migrated and sorted every point
       if (rebalanced_) travel_ = 0.0;
     });
+  return dt;
 }
 
 // Points change ranks only when some point may have moved half a cell since they last did, and
@@ -202,7 +203,7 @@ template <int Dim> void MpmMethod<Dim>::loads(double time) {
   const std::size_t n = s_.localCount();
   for (auto& a : s_[f_.a].first(n)) a.setZero();
   for (const auto& m : modules_) m->beforeRates(s_, f_, time);
-  for (const auto& m : modules_) m->afterRates(s_, f_, time);
+  for (const auto& m : modules_) m->afterRates(s_, f_, time, {s_.localCount()});
   halo_.refresh(s_, loadFields_);
   if (fixedBodies_.empty()) return;
   const std::size_t rows = n + halo_.ghosts();

@@ -38,7 +38,10 @@ SphMethod<Dim>::SphMethod(const parallel::MpiContext& mpi, MethodSetup setup,
 // x_{n+1} = x_n + dt v_{n+1/2}; v_{n+1} = v_{n+1/2} + dt/2 a_{n+1}, with e and (continuity) rho
 // advanced the same way. The second half-kick is first taken with the old rates (the state the
 // forces see) and corrected by dt/2 (new - old) once the new rates are known.
-template <int Dim> void SphMethod<Dim>::advance(double dt, std::int64_t step, double time) {
+template <int Dim> double SphMethod<Dim>::advance(double dt, std::int64_t step, double time) {
+  if (f_.binned()) return advanceInBins(dt, step, time);
+  stats_.stepSubsteps = 1, stats_.stepRowEvaluations = s_.localCount();
+  ++stats_.substeps, stats_.rowEvaluations += s_.localCount();
   std::size_t wrapped = 0; // particles wrapped or folded by this step
   stats_.phases.time(kIntegration, [&] {
     kickDrift(dt);
@@ -75,6 +78,7 @@ template <int Dim> void SphMethod<Dim>::advance(double dt, std::int64_t step, do
   bookExternal(dt, externalLoad(time + dt));
   checkFinite(step + 1, time + dt);
   if (mpi_.size() > 1) stats_.phases.time(kExchange, [&] { balance(step + 1, &lists()); });
+  return dt;
 }
 
 // One force evaluation: ghosts, neighbors, density, kernel correction, rates.
@@ -82,6 +86,10 @@ template <int Dim> void SphMethod<Dim>::evaluate(std::int64_t step, double time)
   rebuild_ = true; // the first evaluation of a run (or a resumed one)
   rates(step, time);
   external_ = externalLoad(time);
+  if (f_.binned()) {
+    measureApproach();
+    assignBins();
+  }
 }
 
 template <int Dim> void SphMethod<Dim>::rates(std::int64_t step, double time) {
@@ -153,22 +161,40 @@ template <int Dim> void SphMethod<Dim>::kickDrift(double dt) {
 }
 
 template <int Dim> void SphMethod<Dim>::kick(double dt) {
+  const double half = 0.5 * dt;
+  kickRows({s_.localCount()}, [half](std::size_t) { return half; });
+}
+
+// Time bins: the closing half-kick of each active row over its own step, (s - start) delta.
+template <int Dim> void SphMethod<Dim>::kickActive(double delta, std::int32_t s) {
+  const auto start = s_[f_.stepStart];
+  kickRows({s_.localCount(), &active_},
+           [&](std::size_t i) { return 0.5 * (static_cast<double>(s - start[i]) * delta); });
+}
+
+// v, e (and with continuity rho) corrected by half(i) (new - old) rates, on `rows`.
+template <int Dim>
+template <class Half>
+void SphMethod<Dim>::kickRows(const EvaluatedRows& rows, Half half) {
   auto v = s_[f_.v];
   auto e = s_[f_.e];
   auto rho = s_[f_.rho];
   const auto a = s_[f_.a], aOld = s_[f_.aOld];
   const auto dedt = s_[f_.dedt], dedtOld = s_[f_.dedtOld];
   const auto drhodt = s_[f_.drhodt], drhodtOld = s_[f_.drhodtOld];
-  const double half = 0.5 * dt;
-  const std::size_t n = s_.localCount();
+  const std::size_t n = rows.size();
 #pragma omp parallel for schedule(static) if (threaded(n))
-  for (std::size_t i = 0; i < n; ++i) {
-    v[i] += half * (a[i] - aOld[i]);
-    e[i] += half * (dedt[i] - dedtOld[i]);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t i = rows[k];
+    v[i] += half(i) * (a[i] - aOld[i]);
+    e[i] += half(i) * (dedt[i] - dedtOld[i]);
   }
   if (!solver_->usesSummationDensity())
 #pragma omp parallel for schedule(static) if (threaded(n))
-    for (std::size_t i = 0; i < n; ++i) rho[i] += half * (drhodt[i] - drhodtOld[i]);
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t i = rows[k];
+      rho[i] += half(i) * (drhodt[i] - drhodtOld[i]);
+    }
 }
 
 // Remote and periodic ghosts within each owned particle's support (widened by the skin): its
@@ -260,7 +286,8 @@ template <int Dim> void SphMethod<Dim>::kernelCorrection() {
 template <int Dim> void SphMethod<Dim>::forces(double time) {
   for (const auto& m : modules_) m->beforeRates(s_, f_, time);
   solver_->computeRates(lists(), boundaries_.firstWallImage());
-  for (const auto& m : modules_) m->afterRates(s_, f_, time);
+  const EvaluatedRows rows{s_.localCount(), allActive_ ? nullptr : &active_};
+  for (const auto& m : modules_) m->afterRates(s_, f_, time, rows);
   const std::size_t n = s_.localCount();
   boundaries_.holdAcceleration(std::span<const Vec<Dim>>(s_[f_.x]).first(n),
                                std::span<const double>(s_[f_.h]).first(n), s_[f_.a].first(n));

@@ -64,8 +64,10 @@ public:
     if (normalise) rhoPrev_.assign(rho.begin(), rho.end());
     const double W0 = K::sigma() * K::f(0.0);
     const auto Hs = Aniso ? s_[f_.H] : std::span<Tensor<Dim>>{};
-#pragma omp parallel for schedule(dynamic, 64) if (threaded(n))
-    for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t rows = this->rowCount(n);
+#pragma omp parallel for schedule(dynamic, 64) if (threaded(rows))
+    for (std::size_t k = 0; k < rows; ++k) {
+      const std::size_t i = this->rowAt(k);
       const double hinv = 1.0 / h[i];
       const double norm = Aniso ? Hs[i].determinant() : ipow<Dim>(hinv);
       double sum = m[i] * W0;
@@ -101,8 +103,10 @@ public:
     const auto B = s_[f_.B];
     const double sigma = K::sigma();
     if constexpr (Aniso) prepareAnisoRows();
-#pragma omp parallel for schedule(dynamic, 64) if (threaded(s_.localCount()))
-    for (std::size_t i = 0; i < s_.localCount(); ++i) {
+    const std::size_t rows = this->rowCount(s_.localCount());
+#pragma omp parallel for schedule(dynamic, 64) if (threaded(rows))
+    for (std::size_t k = 0; k < rows; ++k) {
+      const std::size_t i = this->rowAt(k);
       const double hiInv = 1.0 / h[i], gradNormI = sigma * ipow<Dim>(hiInv) * hiInv;
       Tensor<Dim> M = Tensor<Dim>::Zero();
       bool atCrack = cracks && cracks_.failed(i);
@@ -152,8 +156,10 @@ public:
     const auto sumWH = s_[f_.sumWH];
     const SmoothingLimits lim{cfg_.nodes_per_h, cfg_.h_min,       cfg_.h_max,
                               cfg_.h_min_ratio, cfg_.h_max_ratio, cfg_.max_aspect_ratio};
-#pragma omp parallel for schedule(static) if (threaded(s_.localCount()))
-    for (std::size_t i = 0; i < s_.localCount(); ++i) {
+    const std::size_t rows = this->rowCount(s_.localCount());
+#pragma omp parallel for schedule(static) if (threaded(rows))
+    for (std::size_t k = 0; k < rows; ++k) {
+      const std::size_t i = this->rowAt(k);
       const double factor = sizeFactor(psi_.nodesPerH(root<Dim>(sumWH[i])), cfg_.nodes_per_h);
       if constexpr (Aniso) {
         const Tensor<Dim>& C = s_[f_.cellMoment][i]; // zero where the cell was open
@@ -166,11 +172,6 @@ public:
   }
 
   std::pair<double, std::size_t> stableTimeStep() const override {
-    const auto h = s_[f_.h];
-    const auto cs = s_[f_.cs];
-    const auto a = s_[f_.a];
-    const auto mu = s_[f_.muMax];
-    const double alpha = cfg_.artificial_viscosity.alpha, beta = cfg_.artificial_viscosity.beta;
     // The smallest step and, among equal ones, the first particle: each thread's own over its
     // rows, then the threads' in a fixed order (the sequential loop's answer on any count).
     double dt = std::numeric_limits<double>::infinity();
@@ -181,19 +182,18 @@ public:
       std::size_t whichT = 0;
 #pragma omp for schedule(static) nowait
       for (std::size_t i = 0; i < s_.localCount(); ++i) {
-        // Monaghan (1992): signal speed c + 1.2 (alpha c + beta max mu_ij); plus the force limit.
-        const double signal = cs[i] + 1.2 * (alpha * cs[i] + beta * mu[i]);
-        // ASPH: the shortest axis of the smoothing ellipsoid, 1/lambda_max(H).
-        const double hi = Aniso ? 1.0 / largestEigenvalue<Dim>(s_[f_.H][i]) : h[i];
-        double dti = signal > 0.0 ? hi / signal : std::numeric_limits<double>::infinity();
-        const double an = a[i].norm();
-        if (an > 0.0) dti = std::min(dti, std::sqrt(hi / an));
+        const double dti = crossingTime(i);
         if (dti < dtT) dtT = dti, whichT = i;
       }
 #pragma omp critical(spall_sph_dt)
       if (dtT < dt || (dtT == dt && whichT < which)) dt = dtT, which = whichT;
     }
     return {cfg_.cfl * dt, which};
+  }
+
+  void particleTimeSteps(std::span<double> dt) const override {
+#pragma omp parallel for schedule(static) if (threaded(s_.localCount()))
+    for (std::size_t i = 0; i < s_.localCount(); ++i) dt[i] = cfg_.cfl * crossingTime(i);
   }
 
   double nodesPerH(std::size_t i) const override {
@@ -207,6 +207,20 @@ public:
   }
 
 private:
+  // Particle i's step at cfl 1: Monaghan (1992), the signal speed c + 1.2 (alpha c + beta max
+  // mu_ij) across h, and the force limit sqrt(h / |a|).
+  double crossingTime(std::size_t i) const {
+    const double alpha = cfg_.artificial_viscosity.alpha, beta = cfg_.artificial_viscosity.beta;
+    const double cs = s_[f_.cs][i];
+    const double signal = cs + 1.2 * (alpha * cs + beta * s_[f_.muMax][i]);
+    // ASPH: the shortest axis of the smoothing ellipsoid, 1/lambda_max(H).
+    const double hi = Aniso ? 1.0 / largestEigenvalue<Dim>(s_[f_.H][i]) : s_[f_.h][i];
+    double dti = signal > 0.0 ? hi / signal : std::numeric_limits<double>::infinity();
+    const double an = s_[f_.a][i].norm();
+    if (an > 0.0) dti = std::min(dti, std::sqrt(hi / an));
+    return dti;
+  }
+
   // Lam et al. (2001) Eqs. 20-21 in tensor form, dv_i/dt = sum_j m_j (sigma_i/rho_i^2 +
   // sigma_j/rho_j^2 - Pi_ij I) . grad_i W_ij, with sigma = -p I + S. Hydro decks have S = 0, so
   // the contraction is the scalar pressure term below (strength adds S in its own instantiation).

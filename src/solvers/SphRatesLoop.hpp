@@ -32,8 +32,10 @@ public:
     // Rows in parallel (core/Threads.hpp): each writes only its own rates, from its neighbors'
     // inputs in its list's order; chunks of rows handed out as threads free up (rows differ in
     // neighbor count and in how many pairs approach).
-#pragma omp parallel for schedule(dynamic, 64) if (threaded(n_))
-    for (std::size_t i = 0; i < n_; ++i) {
+    const std::size_t rows = o_.rowCount(n_);
+#pragma omp parallel for schedule(dynamic, 64) if (threaded(rows))
+    for (std::size_t slot = 0; slot < rows; ++slot) {
+      const std::size_t i = o_.rowAt(slot);
       thread_local std::vector<std::uint32_t> rowBuf; // each thread's own
       thread_local RowKernels kernels;                // each thread's own
       const auto row = nl_.of(i, rowBuf);
@@ -50,8 +52,11 @@ public:
       closeRow(r);
     }
     if (balsara_) {
-      std::copy_n(o_.divNew_.begin(), n_, o_.s_[o_.f_.divv].begin());
-      std::copy_n(o_.curlNew_.begin(), n_, o_.s_[o_.f_.curlv].begin());
+      const auto divv = o_.s_[o_.f_.divv], curlv = o_.s_[o_.f_.curlv];
+      for (std::size_t k = 0; k < rows; ++k) {
+        const std::size_t i = o_.rowAt(k);
+        divv[i] = o_.divNew_[i], curlv[i] = o_.curlNew_[i];
+      }
     }
   }
 

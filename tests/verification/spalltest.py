@@ -49,6 +49,17 @@ class Checks:
             return False
         return True
 
+    def same_particles(self, reference, others, what):
+        """Checks that each (label, OUT) of `others` ends at the time of the run in `reference`
+        with its particles, every field bit for bit."""
+        a, ta = final_state(reference)
+        for label, other in others:
+            b, tb = final_state(other)
+            differ = differing(a, b)
+            self.check(ta == tb and not differ,
+                       f"{what} against {label}: the same particles bit for bit"
+                       + (f" (differ: {differ})" if differ else ""))
+
     def finish(self):
         """Exits 1, listing the failed checks again (a long log buries them), when any failed."""
         if self.failures:
@@ -77,6 +88,21 @@ def final_state(out):
         g = f["particles"]
         order = np.argsort(g["id"][()])
         return {k: g[k][()][order] for k in g}, f.attrs["time"]
+
+
+def noh_density(out):
+    """Noh 2D (decks/noh_2d.toml): OUT's last snapshot's mean density between 0.25 and 0.75 of
+    the shock's radius t/3 (the exact value is 16), and its particle count."""
+    s, time = final_state(out)
+    r = np.hypot(s["position"][:, 0], s["position"][:, 1])
+    shock = time / 3.0
+    m = (r > 0.25 * shock) & (r < 0.75 * shock)
+    return s["density"][m].mean(), len(r)
+
+
+def differing(a, b):
+    """The fields of final_state's particles `a` that `b` lacks or holds other bits of."""
+    return [k for k in a if k not in b or not np.array_equal(a[k], b[k])]
 
 
 def rows(path):

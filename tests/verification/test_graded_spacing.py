@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
-from spalltest import Checks, final_state  # noqa: E402
+from spalltest import Checks, final_state, noh_density  # noqa: E402
 
 sys.path.insert(0, str(Path(sys.argv[2]) / "tools" / "python"))
 import spall  # noqa: E402
@@ -145,14 +145,6 @@ def at_rest(tmp):
                              f"speed after 1000 steps (< 1e-6; {n} particles, t = {time:.3g} s)")
 
 
-def noh_density(out):
-    s, time = final_state(out)
-    r = np.hypot(s["position"][:, 0], s["position"][:, 1])
-    shock = time / 3.0
-    m = (r > 0.25 * shock) & (r < 0.75 * shock)
-    return s["density"][m].mean(), len(r)
-
-
 def noh(tmp):
     deck = DECKS / "noh_2d.toml"
     common = ["run.resolution=0.5", "output.every=0.6"]
@@ -176,13 +168,8 @@ def ranks_and_restart(tmp):
     if not (t.run(deck, again, *sets, "run.max_steps=100", ranks=3) and
             t.run(deck, again, *sets, ranks=3, restart="latest")):
         return
-    a, ta = final_state(one)
-    for label, other in (("3 ranks", three), ("3 ranks, restarted at step 100", again)):
-        b, tb = final_state(other)
-        differ = [k for k in a if k not in b or not np.array_equal(a[k], b[k])]
-        t.check(ta == tb and not differ,
-                f"2D graded plane wave, 1 rank against {label}: the same particles bit for bit"
-                + (f" (differ: {differ})" if differ else ""))
+    t.same_particles(one, (("3 ranks", three), ("3 ranks, restarted at step 100", again)),
+                     "2D graded plane wave, 1 rank")
 
 
 with tempfile.TemporaryDirectory() as d:

@@ -90,7 +90,12 @@ template <int Dim> struct ParticleFields {
   // v_p + C_p (x - x_p) about it (snapshots: affine_velocity[n, b, a] = C_ab).
   Field<Tensor<Dim>> affine;
 
+  // solver.time_bins > 1 (methods/TimeBins.hpp): each particle's bin k (its step dt_min 2^k),
+  // and the substeps of the run's step at which its own step began and ends.
+  Field<std::int32_t> timeBin, stepStart, stepEnd;
+
   bool anisotropic() const { return H.valid(); }
+  bool binned() const { return timeBin.valid(); }
   bool hasStrength() const { return S.valid(); }
   bool hasDamage() const { return damage.valid(); }
   bool hasFlaws() const { return flawCount.valid(); }

@@ -28,8 +28,10 @@ public:
   // the state's time.
   virtual void evaluate(std::int64_t step, double time) = 0;
   // Advances the state from step `step` at time `time` by dt, then checks it (RunError naming
-  // the particle and the field when a value went non-finite).
-  virtual void advance(double dt, std::int64_t step, double time) = 0;
+  // the particle and the field when a value went non-finite). Returns the step taken: dt, or
+  // less where a particle's stable step fell below the finest one the step was begun with (time
+  // bins: every particle then closes its step at the next substep).
+  virtual double advance(double dt, std::int64_t step, double time) = 0;
   // The next stable time step over all ranks (collective); StepFailure naming the particle when
   // it collapsed below `floor`. advance() throws StepFailure for non-finite values.
   virtual double stableTimeStep(double floor, std::int64_t step, double time) = 0;

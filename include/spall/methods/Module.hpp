@@ -10,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <vector>
 
 namespace spall::methods {
 
@@ -18,6 +19,15 @@ namespace spall::methods {
 struct ExternalLoad {
   double power = 0.0;
   std::array<double, 3> force{0.0, 0.0, 0.0};
+};
+
+// The owned rows a force evaluation computed: all of them, or (time bins) the listed ones, in
+// increasing order. The other rows keep the rates they have.
+struct EvaluatedRows {
+  std::size_t owned = 0;
+  const std::vector<std::uint32_t>* list = nullptr; // nullptr: every owned row
+  std::size_t size() const { return list ? list->size() : owned; }
+  std::size_t operator[](std::size_t k) const { return list ? (*list)[k] : k; }
 };
 
 // What a new run knows at t = 0 beyond the particles a rank owns, or, when a body joins the run
@@ -40,9 +50,9 @@ public:
   // particles besides their state (a boundary load now).
   virtual void beforeRates(ParticleStore& /*s*/, const ParticleFields<Dim>& /*f*/,
                            double /*time*/) const {}
-  // After each force evaluation of the state at `time`, on the owned particles' rates.
-  virtual void afterRates(ParticleStore& /*s*/, const ParticleFields<Dim>& /*f*/,
-                          double /*time*/) const {}
+  // After each force evaluation of the state at `time`, on the rates of the rows it computed.
+  virtual void afterRates(ParticleStore& /*s*/, const ParticleFields<Dim>& /*f*/, double /*time*/,
+                          const EvaluatedRows& /*rows*/) const {}
   // Whether the module applies external forces (then the method books their work).
   virtual bool appliesExternalForces() const { return false; }
   // The external force (N) the module applies to each owned particle in the state at `time`

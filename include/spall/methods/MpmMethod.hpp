@@ -22,7 +22,7 @@ public:
 
   void start(const RunStart& run) override;
   void evaluate(std::int64_t step, double time) override;
-  void advance(double dt, std::int64_t step, double time) override;
+  double advance(double dt, std::int64_t step, double time) override;
   // Probes and the penetration gauge sample within support() h: h is the particle's spacing
   // times nodes_per_h, as SPH's at the start.
   double support() const override { return 2.0; }

@@ -2,8 +2,9 @@
 // SPH and ASPH as one step list (SphMethod::advance reads top to bottom): kick-drift, material
 // update, whether the lists hold, migration, halo, wall images, neighbors, density, kernel
 // correction, module hooks, forces, module hooks, kick, EOS refresh, smoothing update, external
-// work, checks, rebalance. The physics is in solvers/ and materials/, the parallel machinery in
-// parallel/; this file only orders them.
+// work, checks, rebalance; with time bins the same list a substep, for the particles whose step
+// ends there (methods/SphTimeBins.cpp). The physics is in solvers/ and materials/, the parallel
+// machinery in parallel/; this file only orders them.
 #include "spall/core/Error.hpp"
 #include "spall/core/ParticleFields.hpp"
 #include "spall/materials/MaterialUpdate.hpp"
@@ -36,7 +37,9 @@ public:
 
   void start(const RunStart& run) override;
   void evaluate(std::int64_t step, double time) override;
-  void advance(double dt, std::int64_t step, double time) override;
+  double advance(double dt, std::int64_t step, double time) override;
+  // With time bins, the step of the slowest bin: the finest step 2^K (methods/SphTimeBins.cpp).
+  double stableTimeStep(double floor, std::int64_t step, double time) override;
   double support() const override { return solver_->support(); }
   std::vector<MemoryPart> memoryParts() const override {
     return {{"neighbor_lists", neighbors_.bytes() + verlet_.bytes() + this->cellGridBytes()},
@@ -58,6 +61,20 @@ private:
   void exchangeHalo() override;
   void kickDrift(double dt);
   void kick(double dt);
+  template <class Half> void kickRows(const EvaluatedRows& rows, Half half);
+  // Time bins (methods/SphTimeBins.cpp): the step as 2^K substeps of the finest bin's.
+  double advanceInBins(double dt, std::int64_t step, double time);
+  void substep(double delta, std::int32_t s, std::int64_t step, double time);
+  void predictDensity(double delta, std::int32_t s);
+  void selectActive(std::int32_t s);
+  void keepPredictingRates();
+  void assignBins();
+  void kickActive(double delta, std::int32_t s);
+  bool rebinActive(double delta, std::int32_t s, int K);
+  void wakeNeighbors(double delta, std::int32_t s);
+  void measureApproach();
+  void refreshBins();
+  void countWork(int K);
   bool listsStale(bool wrapped); // wrapped: this step wrapped or folded some particle
   void buildLists();
   void findNeighbors(std::int64_t step);
@@ -83,6 +100,12 @@ private:
   bool rebuild_ = true;
   std::vector<double> reach_;
   std::vector<Vec<Dim>> boxReach_; // ASPH: the supports' bounding boxes
+  // Time bins: the substep's active rows (all of them outside a substep: allActive_), each
+  // row's own stable step and its approach's, and its next bin (scratch).
+  std::vector<std::uint32_t> active_;
+  bool allActive_ = true;
+  std::vector<double> ownStep_, approach_; // each row's own step; its approach's (measureApproach)
+  std::vector<std::int32_t> nextBin_;
 };
 
 } // namespace spall::methods

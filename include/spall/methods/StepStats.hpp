@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 namespace spall::methods {
 
@@ -50,6 +51,12 @@ struct StepStats {
   int maxRankDistance = 0, rebalances = 0;
   double imbalance = 1.0, ghostFractionMax = 0.0;
   std::int64_t metisEdgeCut = -1;
+  // The work against N x steps (solver.time_bins): substeps and rows whose rates were computed,
+  // over the run and in the last step (this rank's); the bins' populations at the last step's
+  // start (all ranks'; empty without bins).
+  std::uint64_t substeps = 0, rowEvaluations = 0;
+  std::uint64_t stepSubsteps = 0, stepRowEvaluations = 0;
+  std::vector<std::uint64_t> binPopulation;
 };
 
 } // namespace spall::methods

@@ -158,6 +158,9 @@ struct SolverConfig {
   // when the particles' travel or their supports' growth has used it up (neighbors/VerletList).
   // The results are the same for any value; 0 searches every step.
   double neighbor_skin = 0.1;
+  // Hierarchical time steps (methods/TimeBins.hpp): particles step in power-of-two bins of the
+  // finest step, dt_min 2^k with k < time_bins, each by its own stable step; 1: one step for all.
+  int time_bins = 1;
   Geometry geometry = Geometry::Cartesian; // from run.geometry
   MpmConfig mpm;                           // solver.method = "mpm"
   std::vector<std::string> sphOnlyKeys;    // given with "mpm", where they do nothing

@@ -7,7 +7,9 @@
 #include "spall/neighbors/NeighborList.hpp"
 #include "spall/solvers/Config.hpp"
 
+#include <cstdint>
 #include <memory>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -34,10 +36,22 @@ public:
   // The local stable time step (the method takes the global minimum) and the owned particle
   // that sets it.
   virtual std::pair<double, std::size_t> stableTimeStep() const = 0;
+  // Each owned particle's own stable step, by the criteria of stableTimeStep (time bins).
+  virtual void particleTimeSteps(std::span<double> dt) const = 0;
+  // Time bins: the owned rows that the density, correction, rates and smoothing passes compute
+  // (the particles whose step ends now), in increasing order; the other rows' results stay as
+  // they are. nullptr: every owned row.
+  void setActiveRows(const std::vector<std::uint32_t>* rows) { active_ = rows; }
   // The effective nodes per h measured by the last computeRates, for diagnostics.
   virtual double nodesPerH(std::size_t i) const = 0;
   // The bytes its per-row scratch holds allocated (summary.json's memory accounting).
   virtual std::size_t scratchBytes() const = 0;
+
+protected:
+  // The passes' rows: k-th of rowCount(n) is rowAt(k) (n: the owned rows).
+  std::size_t rowCount(std::size_t n) const { return active_ ? active_->size() : n; }
+  std::size_t rowAt(std::size_t k) const { return active_ ? (*active_)[k] : k; }
+  const std::vector<std::uint32_t>* active_ = nullptr;
 };
 
 struct SolverSetup {

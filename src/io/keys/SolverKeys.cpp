@@ -48,6 +48,10 @@ template <class K> void keysOf(K& k, SolverConfig& s) {
             "ASPH: steps between cuts of each Voronoi cell, the shape its ellipsoid relaxes to.");
   k.number("neighbor_skin", s.neighbor_skin, keep, "", within(0, 1),
            "Verlet lists searched this fraction wider, kept across steps; 0: search every step.");
+  // 2^11 finest steps a step at most: beyond, the far field's step outlasts any signal's.
+  k.integer(
+      "time_bins", s.time_bins, keep, "", within(1, 12),
+      "Bins of steps dt_min 2^k, k < time_bins, each particle in its own; 1: one step for all.");
   // The product form by default: the stability matrix (tools/stress) runs every impact of
   // unlike materials with it, and none of them with rho_squared (decks/README.md).
   k.choice("stress_form", s.stress_form, kStressFormNames, keep,

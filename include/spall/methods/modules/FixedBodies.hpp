@@ -18,29 +18,37 @@ public:
   explicit FixedBodies(std::vector<std::int32_t> bodies) : bodies_(std::move(bodies)) {
     std::sort(bodies_.begin(), bodies_.end());
   }
-  void registerFields(ParticleStore& /*s*/, ParticleFields<Dim>& /*f*/) override {}
-  void afterRates(ParticleStore& s, const ParticleFields<Dim>& f, double /*time*/) const override {
+  // The support's force on each row, from its last evaluation: a field, so that it moves with
+  // the particle and a row the evaluation skipped (time bins) keeps it.
+  void registerFields(ParticleStore& s, ParticleFields<Dim>& /*f*/) override {
+    support_ = s.add<Vec<Dim>>("support_force", 0);
+  }
+  void afterRates(ParticleStore& s, const ParticleFields<Dim>& f, double /*time*/,
+                  const EvaluatedRows& rows) const override {
     const auto body = s[f.body];
     const auto a = s[f.a];
     const auto m = s[f.m];
-    support_.assign(s.localCount(), Vec<Dim>::Zero());
-    for (std::size_t i = 0; i < s.localCount(); ++i)
+    const auto support = s[support_];
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      const std::size_t i = rows[k];
+      support[i].setZero();
       if (std::binary_search(bodies_.begin(), bodies_.end(), body[i])) {
-        support_[i] = -m[i] * a[i];
+        support[i] = -m[i] * a[i];
         a[i].setZero();
       }
+    }
   }
   bool appliesExternalForces() const override { return true; }
-  // The last evaluation's support forces: the rows are those of afterRates (nothing migrates
-  // between a force evaluation and the booking of its state).
+  // Each row's support force from its last evaluation.
   void addExternalForces(const ParticleStore& s, const ParticleFields<Dim>& /*f*/, double /*time*/,
                          std::span<Vec<Dim>> F) const override {
-    for (std::size_t i = 0; i < std::min(s.localCount(), support_.size()); ++i) F[i] += support_[i];
+    const auto support = s[support_];
+    for (std::size_t i = 0; i < s.localCount(); ++i) F[i] += support[i];
   }
 
 private:
-  std::vector<std::int32_t> bodies_;      // sorted body indices
-  mutable std::vector<Vec<Dim>> support_; // per owned row, the last evaluation's
+  std::vector<std::int32_t> bodies_; // sorted body indices
+  Field<Vec<Dim>> support_;
 };
 
 } // namespace spall::methods

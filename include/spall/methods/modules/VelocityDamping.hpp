@@ -19,13 +19,16 @@ public:
     std::sort(fixed_.begin(), fixed_.end());
   }
   void registerFields(ParticleStore& /*s*/, ParticleFields<Dim>& /*f*/) override {}
-  void afterRates(ParticleStore& s, const ParticleFields<Dim>& f, double time) const override {
+  void afterRates(ParticleStore& s, const ParticleFields<Dim>& f, double time,
+                  const EvaluatedRows& rows) const override {
     if (!(time < until_)) return;
     const auto a = s[f.a];
     const auto v = s[f.v];
     const auto body = s[f.body];
-    for (std::size_t i = 0; i < s.localCount(); ++i)
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      const std::size_t i = rows[k];
       if (!isFixed(body[i])) a[i] -= c_ * v[i];
+    }
   }
   bool appliesExternalForces() const override { return true; }
   void addExternalForces(const ParticleStore& s, const ParticleFields<Dim>& f, double time,
