@@ -2,12 +2,12 @@
 // step is 2^K substeps of the finest bin's step delta. Every substep drifts every particle (x,
 // v, e, rho by their last rates, S by the material update with its last velocity gradient): the
 // state a neighbor reads is each particle's prediction at that time. Only the particles whose
-// own step ends at the substep (the active rows) search, sum and evaluate their rates, and take
-// the closing half-kick over their own step; the others keep the rates they were predicted with.
+// own step ends at the substep (the active rows) sum and evaluate their rates, and take the
+// closing half-kick over their own step; the others keep the rates they were predicted with.
 // A particle's step is the kick-drift-kick leapfrog of SphMethod::advance over its own dt, so a
-// run whose particles share one bin takes the same steps as without bins. The run's step ends
-// with every particle synchronised: output, checkpoints, insertions and rebalancing happen there
-// only, and a restart from any checkpoint continues bit for bit.
+// run whose particles all sit in the finest bin takes the same steps as without bins. The run's
+// step ends with every particle synchronised: output, checkpoints, insertions and rebalancing
+// happen there only, and a restart from any checkpoint continues bit for bit.
 #include "spall/core/Threads.hpp"
 #include "spall/methods/SphMethod.hpp"
 #include "spall/methods/TimeBins.hpp"
@@ -56,8 +56,8 @@ template <int Dim> void SphMethod<Dim>::assignBins() {
 
 // The run's step dt (the slowest bin's, or shorter where an output time cuts it): 2^K substeps
 // of dt / 2^K, every particle starting its own step at the first. Where a particle's own stable
-// step falls below that finest step, every particle closes its step at the next substep, and
-// the run's step ends there (the next one begins with the finer step).
+// step falls below kCloseBelow of that finest step, every particle closes its step at the next
+// substep, and the run's step ends there (the next one begins with the finer step).
 template <int Dim> double SphMethod<Dim>::advanceInBins(double dt, std::int64_t step, double time) {
   const std::size_t n = s_.localCount();
   const auto bin = s_[f_.timeBin];
@@ -175,7 +175,8 @@ template <int Dim> void SphMethod<Dim>::keepPredictingRates() {
 
 // Each active row's next step from substep s: its own stable step's bin, at most the bin s is
 // aligned to, at most kSpread above its lowest neighbor's (all read before any is changed).
-// Returns whether some active row's own step is below delta (the finest bin is too coarse).
+// Returns whether some active row's own step is below kCloseBelow delta (the finest bin is too
+// coarse for it).
 template <int Dim> bool SphMethod<Dim>::rebinActive(double delta, std::int32_t s, int K) {
   const std::size_t n = s_.localCount();
   resizeWithHeadroom(ownStep_, n);
