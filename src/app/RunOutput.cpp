@@ -73,7 +73,7 @@ std::vector<std::pair<const char*, std::string>> historyColumns(const HistoryRow
 
 // history.csv's bin_K columns: one a bin with solver.time_bins above 1 (methods/TimeBins.hpp).
 template <int Dim> std::size_t Simulation<Dim>::historyBins() const {
-  const int bins = deck_.solver.method == SolverMethod::Mpm ? 1 : deck_.solver.time_bins;
+  const int bins = deck_.solver.time_bins; // (MPM refuses bins: io/DeckSolver.cpp)
   return bins > 1 ? static_cast<std::size_t>(bins) : 0;
 }
 

@@ -103,8 +103,8 @@ typename Simulation<Dim>::RunReport Simulation<Dim>::report(Clock::time_point wa
   // With time bins a step is its substeps of the finest step: the rate counts those, so that
   // it compares with a single-step run's over the same time (the rows they evaluated are in
   // summary.json's time_bins).
-  const bool binned = deck_.solver.time_bins > 1 && deck_.solver.method != SolverMethod::Mpm;
-  const double substeps = binned ? static_cast<double>(st.substeps) : static_cast<double>(r.steps);
+  const double substeps =
+      historyBins() > 0 ? static_cast<double>(st.substeps) : static_cast<double>(r.steps);
   const double pSteps = static_cast<double>(particles()) * substeps;
   const double stepping = r.wall - st.phases[methods::kCheckpoint];
   r.rate = stepping > 0.0 ? pSteps / stepping : 0.0;
@@ -169,7 +169,7 @@ Simulation<Dim>::summaryLines(const RunReport& r, const RunOptions& options, int
                                 "evaluations (skin {:g})",
                                 r.meanNeighbors, st.listBuilds, st.evaluations,
                                 deck_.solver.neighbor_skin));
-  if (deck_.solver.time_bins > 1 && st.substeps > 0)
+  if (historyBins() > 0 && st.substeps > 0)
     lines.push_back(fmt::format(
         "time bins: {} substeps in {} steps, {:.1f}% of the rows of one step for all evaluated; "
         "the last step's bins {}",

@@ -64,10 +64,10 @@ public:
     if (normalise) rhoPrev_.assign(rho.begin(), rho.end());
     const double W0 = K::sigma() * K::f(0.0);
     const auto Hs = Aniso ? s_[f_.H] : std::span<Tensor<Dim>>{};
-    const std::size_t rows = this->rowCount(n);
-#pragma omp parallel for schedule(dynamic, 64) if (threaded(rows))
-    for (std::size_t k = 0; k < rows; ++k) {
-      const std::size_t i = this->rowAt(k);
+    const EvaluatedRows rows = this->passRows(n);
+#pragma omp parallel for schedule(dynamic, 64) if (threaded(rows.size()))
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      const std::size_t i = rows[k];
       const double hinv = 1.0 / h[i];
       const double norm = Aniso ? Hs[i].determinant() : ipow<Dim>(hinv);
       double sum = m[i] * W0;
@@ -103,10 +103,10 @@ public:
     const auto B = s_[f_.B];
     const double sigma = K::sigma();
     if constexpr (Aniso) prepareAnisoRows();
-    const std::size_t rows = this->rowCount(s_.localCount());
-#pragma omp parallel for schedule(dynamic, 64) if (threaded(rows))
-    for (std::size_t k = 0; k < rows; ++k) {
-      const std::size_t i = this->rowAt(k);
+    const EvaluatedRows rows = this->passRows(s_.localCount());
+#pragma omp parallel for schedule(dynamic, 64) if (threaded(rows.size()))
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      const std::size_t i = rows[k];
       const double hiInv = 1.0 / h[i], gradNormI = sigma * ipow<Dim>(hiInv) * hiInv;
       Tensor<Dim> M = Tensor<Dim>::Zero();
       bool atCrack = cracks && cracks_.failed(i);
@@ -156,10 +156,10 @@ public:
     const auto sumWH = s_[f_.sumWH];
     const SmoothingLimits lim{cfg_.nodes_per_h, cfg_.h_min,       cfg_.h_max,
                               cfg_.h_min_ratio, cfg_.h_max_ratio, cfg_.max_aspect_ratio};
-    const std::size_t rows = this->rowCount(s_.localCount());
-#pragma omp parallel for schedule(static) if (threaded(rows))
-    for (std::size_t k = 0; k < rows; ++k) {
-      const std::size_t i = this->rowAt(k);
+    const EvaluatedRows rows = this->passRows(s_.localCount());
+#pragma omp parallel for schedule(static) if (threaded(rows.size()))
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      const std::size_t i = rows[k];
       const double factor = sizeFactor(psi_.nodesPerH(root<Dim>(sumWH[i])), cfg_.nodes_per_h);
       if constexpr (Aniso) {
         const Tensor<Dim>& C = s_[f_.cellMoment][i]; // zero where the cell was open

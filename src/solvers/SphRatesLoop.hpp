@@ -32,10 +32,10 @@ public:
     // Rows in parallel (core/Threads.hpp): each writes only its own rates, from its neighbors'
     // inputs in its list's order; chunks of rows handed out as threads free up (rows differ in
     // neighbor count and in how many pairs approach).
-    const std::size_t rows = o_.rowCount(n_);
-#pragma omp parallel for schedule(dynamic, 64) if (threaded(rows))
-    for (std::size_t slot = 0; slot < rows; ++slot) {
-      const std::size_t i = o_.rowAt(slot);
+    const EvaluatedRows rows = o_.passRows(n_);
+#pragma omp parallel for schedule(dynamic, 64) if (threaded(rows.size()))
+    for (std::size_t slot = 0; slot < rows.size(); ++slot) {
+      const std::size_t i = rows[slot];
       thread_local std::vector<std::uint32_t> rowBuf; // each thread's own
       thread_local RowKernels kernels;                // each thread's own
       const auto row = nl_.of(i, rowBuf);
@@ -53,8 +53,8 @@ public:
     }
     if (balsara_) {
       const auto divv = o_.s_[o_.f_.divv], curlv = o_.s_[o_.f_.curlv];
-      for (std::size_t k = 0; k < rows; ++k) {
-        const std::size_t i = o_.rowAt(k);
+      for (std::size_t k = 0; k < rows.size(); ++k) {
+        const std::size_t i = rows[k];
         divv[i] = o_.divNew_[i], curlv[i] = o_.curlNew_[i];
       }
     }

@@ -12,10 +12,10 @@ namespace spall::solvers::sph {
 // towards it a step: a cell a few steps old is as good a target (decks/topics/asph.md).
 template <int Dim, class K, bool Aniso>
 void Sph<Dim, K, Aniso>::cutVoronoiCells(const neighbors::NeighborList& nl) {
-  const std::size_t rows = this->rowCount(s_.localCount());
-#pragma omp parallel for schedule(dynamic, 64) if (threaded(rows))
-  for (std::size_t k = 0; k < rows; ++k) {
-    const std::size_t i = this->rowAt(k);
+  const EvaluatedRows rows = this->passRows(s_.localCount());
+#pragma omp parallel for schedule(dynamic, 64) if (threaded(rows.size()))
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const std::size_t i = rows[k];
     thread_local std::vector<std::uint32_t> rowBuf; // each thread's own
     cutVoronoiCell(i, nl.of(i, rowBuf));
   }

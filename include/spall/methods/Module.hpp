@@ -4,13 +4,13 @@
 // images), sets them at t = 0, acts at the hooks it needs, and saves its own state. The deck
 // assembles the list once, in a fixed order (app/Setup.cpp); the method calls the hooks in list
 // order. Hooks run once per step per module, never per particle.
+#include "spall/core/EvaluatedRows.hpp"
 #include "spall/core/ParticleFields.hpp"
 #include "spall/io/Checkpoint.hpp"
 
 #include <array>
 #include <cstdint>
 #include <span>
-#include <vector>
 
 namespace spall::methods {
 
@@ -19,15 +19,6 @@ namespace spall::methods {
 struct ExternalLoad {
   double power = 0.0;
   std::array<double, 3> force{0.0, 0.0, 0.0};
-};
-
-// The owned rows a force evaluation computed: all of them, or (time bins) the listed ones, in
-// increasing order. The other rows keep the rates they have.
-struct EvaluatedRows {
-  std::size_t owned = 0;
-  const std::vector<std::uint32_t>* list = nullptr; // nullptr: every owned row
-  std::size_t size() const { return list ? list->size() : owned; }
-  std::size_t operator[](std::size_t k) const { return list ? (*list)[k] : k; }
 };
 
 // What a new run knows at t = 0 beyond the particles a rank owns, or, when a body joins the run

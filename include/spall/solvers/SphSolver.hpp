@@ -3,6 +3,7 @@
 // energy rates with artificial viscosity, Owen's ideal-H smoothing update and the stable time
 // step. No MPI, no files and no material models here: the method (methods/SphMethod) supplies
 // ghosts, runs the material update and reduces the time step.
+#include "spall/core/EvaluatedRows.hpp"
 #include "spall/core/ParticleFields.hpp"
 #include "spall/neighbors/NeighborList.hpp"
 #include "spall/solvers/Config.hpp"
@@ -48,9 +49,8 @@ public:
   virtual std::size_t scratchBytes() const = 0;
 
 protected:
-  // The passes' rows: k-th of rowCount(n) is rowAt(k) (n: the owned rows).
-  std::size_t rowCount(std::size_t n) const { return active_ ? active_->size() : n; }
-  std::size_t rowAt(std::size_t k) const { return active_ ? (*active_)[k] : k; }
+  // The passes' rows, of n owned ones.
+  EvaluatedRows passRows(std::size_t n) const { return {n, active_}; }
   const std::vector<std::uint32_t>* active_ = nullptr;
 };
 
