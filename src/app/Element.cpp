@@ -56,6 +56,9 @@ struct RecordedRow {
   double plastic = NAN, temperature = NAN, epsVp = NAN;
   double id = NAN; // the particle's id: the run drew its flaws from it
   Tensor<3> damageTensor = Tensor<3>::Constant(NAN), strainTensor = Tensor<3>::Constant(NAN);
+  // A rate-dependent cap's overstress (deviator, I1)
+  Tensor<3> overS = Tensor<3>::Constant(NAN);
+  double overI1 = NAN;
 };
 
 // Voigt order of the stress columns: xx yy zz xy yz xz.
@@ -124,12 +127,14 @@ std::vector<RecordedRow> readState(const std::string& path, const io::FTable& ta
     tensor("intact_S", row.Sintact);
     row.plastic = optional(v, "plastic_strain"), row.temperature = optional(v, "temperature");
     row.epsVp = optional(v, "plastic_volumetric_strain");
+    row.overI1 = optional(v, "cap_overstress_i1");
     row.id = optional(v, "id");
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b) {
         const std::string ab = fmt::format("_{}{}", a + 1, b + 1);
         row.damageTensor(a, b) = optional(v, ("damage_tensor" + ab).c_str());
         row.strainTensor(a, b) = optional(v, ("strain_tensor" + ab).c_str());
+        row.overS(a, b) = optional(v, ("cap_overstress" + ab).c_str());
       }
     out.push_back(row);
   }
@@ -154,6 +159,8 @@ struct ElementPoint {
   std::vector<Tensor<3>> damageTensor{Tensor<3>::Zero()}, strainTensor{Tensor<3>::Zero()};
   std::vector<ParticleId> id{0};
   std::vector<double> epsVp{0.0}, X{0.0}, phi{0.0}, pf{0.0};
+  std::vector<Tensor<3>> overS{Tensor<3>::Zero()}; // a rate-dependent cap's overstress
+  std::vector<double> overI1{0.0};
   std::vector<std::int32_t> iterations{0};
   std::vector<double> alpha, alphaP;
 
@@ -199,6 +206,8 @@ struct ElementPoint {
       take(plastic[0], r0.plastic), take(temperature[0], r0.temperature);
     }
     if (cap) take(epsVp[0], r0.epsVp); // X, porosity and pore pressure follow from it
+    if (cap && mat.cap->rateDependent() && r0.overS.allFinite())
+      overS[0] = r0.overS, take(overI1[0], r0.overI1);
     if (tensor && r0.damageTensor.allFinite() && r0.strainTensor.allFinite())
       damageTensor[0] = r0.damageTensor, strainTensor[0] = r0.strainTensor;
   }
@@ -213,6 +222,7 @@ struct ElementPoint {
     if (cap)
       f.volumetricStrain = epsVp, f.capPosition = X, f.porosity = phi, f.porePressure = pf,
       f.returnIterations = iterations;
+    if (cap && mat.cap->rateDependent()) f.capOverstress = overS, f.capOverstressI1 = overI1;
     if (porous) f.alpha = alpha, f.porosity = phi, f.returnIterations = iterations;
     if (elastic) f.alphaPlastic = alphaP;
     return f;

@@ -60,6 +60,7 @@ void ParticleRecorder<Dim>::open(const fs::path& dir, bool resumed, double time,
     if (field.valid()) extras_.push_back(field);
   };
   add(f.volumetricStrain), add(f.capPosition), add(f.porosity), add(f.porePressure);
+  add(f.capOverstressI1);
   add(f.alpha), add(f.alphaPlastic);
   // Grady-Kipp flaws: the particle's own draw (from the seed, its id and volume), so that a
   // replay starts from the flaws the run gave it; the tensor model's damage and strain tensors.
@@ -72,6 +73,7 @@ void ParticleRecorder<Dim>::open(const fs::path& dir, bool resumed, double time,
   tensors_.clear();
   if (f.damageTensor.valid())
     tensors_ = {{"damage_tensor", f.damageTensor}, {"strain_tensor", f.strainTensor}};
+  if (f.capOverstress.valid()) tensors_.push_back({"cap_overstress", f.capOverstress});
   if (ids_.empty() || !mpi.root()) return;
   if (stem_.empty()) fs::create_directories(dir / "particles");
   std::string fHeader = "# t";

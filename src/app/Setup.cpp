@@ -155,7 +155,10 @@ std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck
   if (damage) list.push_back(std::make_unique<methods::Damage<Dim>>(flaws, deck.run.seed));
   if (std::any_of(deck.materials.begin(), deck.materials.end(),
                   [](const auto& m) { return m.strength.cap() != nullptr; }))
-    list.push_back(std::make_unique<methods::CapPlasticity<Dim>>());
+    list.push_back(std::make_unique<methods::CapPlasticity<Dim>>(
+        std::any_of(deck.materials.begin(), deck.materials.end(), [](const auto& m) {
+          return m.strength.cap() != nullptr && m.strength.cap()->rateDependent();
+        })));
   if (std::any_of(deck.materials.begin(), deck.materials.end(),
                   [](const auto& m) { return m.porosity.type != PorosityType::None; })) {
     std::vector<double> alpha0;

@@ -22,7 +22,7 @@ std::string fieldUnit(std::string_view name, int dimension, bool rz) {
   if (name == "mass") return ring ? "kg" : dimension == 2 ? "kg/m" : "kg/m^2";
   if (name == "force") return ring ? "N" : dimension == 2 ? "N/m" : "N/m^2";
   if (name == "surface_area") return ring ? "m^2" : dimension == 2 ? "m" : "1";
-  static constexpr std::array<std::pair<std::string_view, std::string_view>, 40> kUnits{{
+  static constexpr std::array<std::pair<std::string_view, std::string_view>, 42> kUnits{{
       {"id", "1"},
       {"position", "m"},
       {"velocity", "m/s"},
@@ -50,6 +50,8 @@ std::string fieldUnit(std::string_view name, int dimension, bool rz) {
       {"plastic_volumetric_strain", "1"},
       {"cap_position", "Pa"}, // X, in the units of I1
       {"pore_pressure", "Pa"},
+      {"cap_overstress", "Pa"},
+      {"cap_overstress_i1", "Pa"},
       {"deformation_gradient", "1"},
       {"velocity_gradient", "1/s"},
       {"fragment", "1"},

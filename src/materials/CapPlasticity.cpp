@@ -1,5 +1,6 @@
 #include "spall/materials/CapPlasticity.hpp"
 
+#include <cmath>
 #include <limits>
 
 namespace spall::materials {
@@ -104,12 +105,12 @@ double CapPlasticity::porePressure(double rho, double epsVp) const {
   return std::max(0.0, pf0 - Kf * epsF);
 }
 
-CapResponse CapPlasticity::respond(double rho, const CapState& s) const {
+CapResponse CapPlasticity::respond(double rho, const CapState& s, double I1over) const {
   CapResponse r;
   r.X = capPosition(s.volumetricStrain);
   r.phi = porosity(s.volumetricStrain);
   r.pf = porePressure(rho, s.volumetricStrain);
-  r.p = -effectiveI1(rho, s.volumetricStrain) / 3.0 + r.pf;
+  r.p = -(effectiveI1(rho, s.volumetricStrain) + I1over) / 3.0 + r.pf;
   // The undrained fluid stiffens compaction by at most K_f / phi (all the volume change into the
   // pores): the bound keeps the time step stable whatever the split.
   const double fluid = Kf > 0.0 ? Kf / std::max(r.phi, 1e-12) : 0.0;
@@ -182,6 +183,24 @@ CapStep CapPlasticity::update(const CapState& s, const Mat3& L, double dt, doubl
   // |de^p| = sqrt2 (qt - q) / 2G; the equivalent strain is sqrt(2/3) of it.
   out.state.plasticStrain += (qt - q) / (std::sqrt(3.0) * G);
   return out;
+}
+
+double CapPlasticity::relaxationTime(const Mat3& L) const {
+  const double rate = std::max(0.5 * (L + L.transpose()).norm(), 1e-15);
+  return T2 == 0.0 ? T1 : T1 * std::pow(1.0 / rate, T2);
+}
+
+CapOverstress CapPlasticity::relax(const CapOverstress& o, const Mat3& Sn, const CapState& qs0,
+                                   const CapState& qs1, const Mat3& L, double dt) const {
+  const double x = dt / relaxationTime(L);
+  const double r = std::exp(-x);
+  const double R = x > 0.0 ? -std::expm1(-x) / x : 1.0; // (1 - r)/x, without cancellation
+
+  const Mat3 trial = elasticTrial(Sn, L, dt, G) - Sn;
+  CapOverstress next;
+  next.S = o.S * r + (trial - (qs1.S - qs0.S)) * R;
+  next.I1 = o.I1 * r + 3.0 * K * (qs1.volumetricStrain - qs0.volumetricStrain) * R;
+  return next;
 }
 
 std::optional<double> CapPlasticity::densityForPressure(double p) const {

@@ -159,16 +159,27 @@ void MaterialUpdate::capPass(const CapPlasticity& cap, std::int32_t id, const Ma
 #pragma omp parallel for schedule(static) if (threaded(f.rho.size()))
   for (std::size_t i = 0; i < f.rho.size(); ++i) {
     if (f.material[i] != id) continue;
-    const CapState before{f.S[i], f.plasticStrain[i], f.volumetricStrain[i]};
+    // The quasi-static state: what the particle carries less its overstress (rate dependence).
+    const bool rate = cap.rateDependent();
+    const CapOverstress over =
+        rate ? CapOverstress{f.capOverstress[i], f.capOverstressI1[i]} : CapOverstress{};
+    const CapState before{f.S[i] - over.S, f.plasticStrain[i], f.volumetricStrain[i]};
+    double I1over = over.I1;
     if (advance) {
       const CapStep step = cap.update(before, f.L[i], dt, f.rho[i]);
-      f.S[i] = step.state.S;
+      Mat3 S = step.state.S;
+      if (rate) {
+        const CapOverstress next = cap.relax(over, f.S[i], before, step.state, f.L[i], dt);
+        f.capOverstress[i] = next.S, f.capOverstressI1[i] = I1over = next.I1;
+        S += next.S;
+      }
+      f.S[i] = S;
       f.plasticStrain[i] = step.state.plasticStrain;
       f.volumetricStrain[i] = step.state.volumetricStrain;
       if (!f.returnIterations.empty()) f.returnIterations[i] = step.iterations;
     }
     const CapResponse r =
-        cap.respond(f.rho[i], {f.S[i], f.plasticStrain[i], f.volumetricStrain[i]});
+        cap.respond(f.rho[i], {f.S[i], f.plasticStrain[i], f.volumetricStrain[i]}, I1over);
     f.p[i] = r.p;
     f.cs[i] = r.cs;
     f.capPosition[i] = r.X;

@@ -142,6 +142,10 @@ template <int Dim> materials::MaterialFields ParticleMethod<Dim>::materialFields
     mf.volumetricStrain = s_[f_.volumetricStrain].first(n);
     mf.capPosition = s_[f_.capPosition].first(n);
     mf.porePressure = s_[f_.porePressure].first(n);
+    if (f_.capOverstress.valid()) {
+      mf.capOverstress = s_[f_.capOverstress].first(n);
+      mf.capOverstressI1 = s_[f_.capOverstressI1].first(n);
+    }
   }
   if (f_.porosity.valid()) mf.porosity = s_[f_.porosity].first(n);
   if (f_.hasPAlpha()) mf.alpha = s_[f_.alpha].first(n);

@@ -89,6 +89,10 @@ CASES = [("sod_1d.toml", []), ("rod_impact_copper.toml", ["run.end_time=6e-6"]),
          # Brent-iterated return per particle; plastic volumetric strain, cap, pore pressure
          ("sandstone_confined_2d.toml", ["run.end_time=8e-6", "run.resolution=0.5",
                                          "material.sandstone.strength.fluid_bulk_modulus=2.2e9"]),
+         # ... rate-dependent (Duvaut-Lions): the overstress, a per-particle history
+         ("sandstone_confined_2d.toml", ["run.end_time=8e-6", "run.resolution=0.5",
+                                         "material.sandstone.strength.rate_t1=1.58e-4",
+                                         "material.sandstone.strength.rate_t2=0.5"]),
          # P-alpha with strength and flaws: the distension compacting by a Newton solve per
          # particle behind a 2.58 km/s projectile
          ("pumice_impact_2d.toml", ["run.end_time=1.5e-6", "run.resolution=0.5"]),

@@ -259,6 +259,11 @@ with tempfile.TemporaryDirectory() as tmp:
     wet = ["run.resolution=0.5", "material.sandstone.strength.fluid_bulk_modulus=2.2e9"]
     stopped_and_restarted(sand, 2, tmp / "sand", ["run.end_time=1e-5", *wet], 300,
                           "confined sandstone (cap, pore fluid), 2 ranks, restart mid-compaction")
+    # ... rate-dependent: the overstress (deviator and I1) is checkpointed with the rest.
+    rate = ["run.resolution=0.5", "material.sandstone.strength.rate_t1=1.58e-4",
+            "material.sandstone.strength.rate_t2=0.5"]
+    stopped_and_restarted(sand, 2, tmp / "sand_rate", ["run.end_time=1e-5", *rate], 300,
+                          "confined sandstone (rate-dependent cap), 2 ranks, restart mid-compaction")
 
     # P-alpha mid-compaction: the distension is checkpointed; the solve after the restart starts
     # from the same alpha_old.

@@ -16,7 +16,7 @@ exact (the same EOS call on the same density and energy). Also: `spall history` 
 recorded table, and from the snapshots alone (a particle not recorded) the recorded rows at
 the snapshot times (the snapshots store F row-major; read the other way it is F^T, which the
 corner particle's shear tells apart); the recording is the same on 1 and 2 ranks and through a restart (text
-identical). And a cap particle (confined sandstone under a piston, saturated) replayed to
+identical). And a cap particle (confined sandstone under a piston, saturated; and rate-dependent, its overstress recorded) replayed to
 round-off, its plastic volumetric strain, porosity and pore pressure too; and two P-alpha particles
 of the pumice impact (distension, and damage from the run's own flaws) to round-off. Each
 recording's second half replayed alone (starting from the recorded state, as a failed run's
@@ -167,14 +167,20 @@ with tempfile.TemporaryDirectory() as tmp:
     sand = SRC / "decks" / "sandstone_confined_2d.toml"
     wet = ["--set", "run.resolution=0.5", "--set",
            "material.sandstone.strength.fluid_bulk_modulus=2.2e9"]
-    out = tmp / "sand"
-    if spall(["run", sand, "--output", out, "--quiet", "--set", "run.end_time=1e-5", "--set",
-              "output.record_particles=[790, 410]", *wet], 2):
+    # ... and rate-dependent (the overstress, deviator and I1, recorded and read back).
+    rate = ["--set", "material.sandstone.strength.rate_t1=1.58e-4", "--set",
+            "material.sandstone.strength.rate_t2=0.5"]
+    for label, sets in (("", wet), ("rate_", wet + rate)):
+        out = tmp / f"sand_{label}"
+        if not spall(["run", sand, "--output", out, "--quiet", "--set", "run.end_time=1e-5",
+                      "--set", "output.record_particles=[790, 410]", *sets], 2):
+            continue
         for pid in (790, 410):
-            table, state = out / f"particles/particle_{pid}.ftable", out / f"particles/particle_{pid}.csv"
-            replay = tmp / f"sand_{pid}.csv"
-            if not spall(["element", sand, "--material", "sandstone", "--table", table, "--substeps",
-                          "1", "--state", state, "--output", replay, *wet]):
+            table = out / f"particles/particle_{pid}.ftable"
+            state = out / f"particles/particle_{pid}.csv"
+            replay = tmp / f"sand_{label}{pid}.csv"
+            if not spall(["element", sand, "--material", "sandstone", "--table", table,
+                          "--substeps", "1", "--state", state, "--output", replay, *sets]):
                 continue
             a, b = read(state), read(replay)
             worst = stress_error(a, b)
@@ -183,11 +189,11 @@ with tempfile.TemporaryDirectory() as tmp:
                       for c in cols)
             check(np.array_equal(a["t"], b["t"]) and worst < 1e-11 and rel < 1e-11 and
                   a["plastic_volumetric_strain"][-1] < -1e-4 and a["pore_pressure"][-1] > 1e6,
-                  f"sandstone particle {pid}: replayed stress within {worst:.1e} of the run's, "
-                  f"cap state within {rel:.1e} (relative, < 1e-11); it compacted to eps_v^p = "
-                  f"{a['plastic_volumetric_strain'][-1]:.2e}, pore pressure "
+                  f"{label}sandstone particle {pid}: replayed stress within {worst:.1e} of the "
+                  f"run's, cap state within {rel:.1e} (relative, < 1e-11); it compacted to "
+                  f"eps_v^p = {a['plastic_volumetric_strain'][-1]:.2e}, pore pressure "
                   f"{a['pore_pressure'][-1] / 1e6:.1f} MPa")
-            from_midway(sand, "sandstone", table, state, wet, f"sandstone_{pid}")
+            from_midway(sand, "sandstone", table, state, sets, f"sandstone_{label}{pid}")
 
     # P-alpha with strength and flaws (decks/pumice_impact_2d.toml at half resolution, 2 us, 2
     # ranks): a particle under the projectile that compacts fully, one aside that compacts

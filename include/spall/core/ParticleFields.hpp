@@ -58,6 +58,8 @@ template <int Dim> struct ParticleFields {
   // Cap plasticity (a "cap" material): the plastic volumetric strain (the history), and the cap
   // position X, porosity and pore pressure it means at the particle's density.
   Field<double> volumetricStrain, capPosition, porosity, porePressure;
+  Field<Tensor<3>> capOverstress; // a rate-dependent cap's overstress (deviator, I1)
+  Field<double> capOverstressI1;
   // P-alpha (a material with `porosity`): the distension alpha (the history); `porosity` holds
   // 1 - 1/alpha for its particles (the cap's phi for a cap material's).
   Field<double> alpha;

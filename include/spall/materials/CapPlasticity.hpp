@@ -32,6 +32,18 @@
 // bracketed root (regula falsi, Illinois variant, bisection where an end is infinite), so the
 // answer is always on the surface, whatever the iteration count; the count is bounded by the
 // bracket's width reaching 4 ulp (kMaxIterations).
+//
+// Rate dependence (Arenisca's Duvaut-Lions overstress; Brannon, "Elements of Phenomenological
+// Plasticity", Eqs. 6.92-6.93): the stress relaxes toward the rate-independent (quasi-static) one
+// over the time tau = T1 (1/|D|)^T2, |D| the strain rate's norm. The quasi-static state (its
+// deviator, eps_v^p, the cap) follows the return above; the particle carries it plus the
+// overstress, which obeys d(over)/dt = (trial rate - quasi-static rate) - over/tau, integrated
+// exactly for rates constant over the step:
+//   over_n+1 = over_n r + [(sigma_trial - sigma_n) - (sigma_qs,n+1 - sigma_qs,n)] (1 - r) tau/dt,
+//   r = exp(-dt/tau).
+// In I1 the bracket is 3K (eps_v,n+1^p - eps_v,n^p) (the trial carries no plastic volume change),
+// in the deviator the elastic trial's increment of the carried deviator less the quasi-static
+// deviator's. T1 = 0: rate-independent (no overstress); tau -> infinity: elastic.
 #include "spall/materials/Strength.hpp"
 
 namespace spall::materials {
@@ -54,6 +66,13 @@ struct CapShape {
   double Ff = 0.0, Fc = 1.0, FpFc = 0.0;
 };
 
+// The overstress the particle carries above the quasi-static state (rate dependence): its deviator
+// and its I1.
+struct CapOverstress {
+  Mat3 S = Mat3::Zero();
+  double I1 = 0.0;
+};
+
 struct CapStep {
   CapState state;
   int iterations = 0; // function evaluations of the return (0: elastic or closed form)
@@ -69,8 +88,12 @@ struct CapPlasticity {
   bool hardening = true;
   double dilatancy = 1.0;
   double Kf = 0.0, pf0 = 0.0; // fluid_bulk_modulus, initial_pore_pressure
+  double T1 = 0.0, T2 = 0.0;  // rate_t1, rate_t2: tau = T1 (1/|D|)^T2; T1 = 0 rate-independent
 
   double shearModulus() const { return G; }
+  bool rateDependent() const { return T1 > 0.0; }
+  // tau at the strain rate of L (|D| floored at 1e-15 1/s: a still particle keeps its overstress).
+  double relaxationTime(const Mat3& L) const;
 
   // X of a plastic volumetric strain (the crush curve's inverse; P0 without hardening).
   double capPosition(double epsVp) const;
@@ -87,8 +110,13 @@ struct CapPlasticity {
   double effectiveI1(double rho, double epsVp) const;
   double porePressure(double rho, double epsVp) const;
 
-  CapResponse respond(double rho, const CapState& s) const;
+  // I1over: the overstress's I1 (rate dependence), added to the effective stress.
+  CapResponse respond(double rho, const CapState& s, double I1over = 0.0) const;
   CapStep update(const CapState& s, const Mat3& L, double dt, double rho) const;
+  // The overstress after a step (rate dependence): o the one before, Sn the deviator the particle
+  // carried, qs0 and qs1 the quasi-static states before and after the step's return.
+  CapOverstress relax(const CapOverstress& o, const Mat3& Sn, const CapState& qs0,
+                      const CapState& qs1, const Mat3& L, double dt) const;
   // The density at which an unyielded element (eps_v^p = 0) carries the total pressure p: a
   // body's initial_pressure. nullopt when that effective stress is outside the yield surface.
   std::optional<double> densityForPressure(double p) const;

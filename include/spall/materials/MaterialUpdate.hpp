@@ -77,6 +77,9 @@ struct MaterialFields {
   // single-element driver) receives each update's iteration count.
   std::span<double> volumetricStrain = {}, capPosition = {}, porosity = {}, porePressure = {};
   std::span<std::int32_t> returnIterations = {};
+  // Rate-dependent cap materials: the overstress above the quasi-static state (S carries both).
+  std::span<Tensor<3>> capOverstress = {};
+  std::span<double> capOverstressI1 = {};
   // P-alpha materials: the distension alpha (the history; `porosity` is 1 - 1/alpha there).
   // returnIterations then receives the EOS evaluations of the compaction solve.
   std::span<double> alpha = {};

@@ -117,6 +117,11 @@ template <class K> void keysOf(K& k, materials::CapPlasticity& p) {
            "K_f of the pore fluid, undrained; 0: drained at initial_pore_pressure.");
   k.number("initial_pore_pressure", p.pf0, 0.0, "Pa", atLeast(0),
            "p_f0, the pore pressure at the start (Terzaghi's effective stress).");
+  k.number("rate_t1", p.T1, 0.0, "s^(1-T2)", atLeast(0),
+           "T1 of the overstress's relaxation time tau = T1 (1/|D|)^T2 (Arenisca's Duvaut-Lions "
+           "rate dependence); 0: rate-independent.");
+  k.number("rate_t2", p.T2, 0.0, "", atLeast(0),
+           "T2, the relaxation time's exponent of the strain rate; 0: tau = T1 at any rate.");
 }
 
 const auto kKeys = [](auto& k, auto& p) -> decltype(keysOf(k, p)) { keysOf(k, p); };

@@ -233,3 +233,36 @@ TEST(CapPlasticity, PoreFluidCarriesUndrainedCompressionAndCavitates) {
     EXPECT_FALSE(c.densityForPressure(40.0e6).has_value()); // past the cap (I1' < P0)
   }
 }
+
+// Duvaut-Lions overstress (relax): at rest (L = 0, T2 = 0) it decays as exp(-dt/tau) exactly;
+// with tau far above the step the carried stress takes the whole elastic trial (elastic); with tau
+// far below it the overstress vanishes (rate-independent); the I1 part is 3K times the step's
+// plastic volume change, weighted by (1 - r) tau/dt.
+TEST(CapPlasticity, OverstressRelaxesExactlyAndHasBothLimits) {
+  CapPlasticity c = sandstone();
+  c.T1 = 2.0e-6; // T2 = 0: tau = T1 at any rate
+  CapOverstress o;
+  o.S = Mat3::Zero();
+  o.S(0, 0) = 2.0e6, o.S(1, 1) = -2.0e6;
+  o.I1 = -3.0e6;
+  const CapState qs = stateAt(c, -10.0e6, 1.0e6);
+  const double dt = 5.0e-7, r = std::exp(-dt / c.T1);
+  const CapOverstress still = c.relax(o, qs.S + o.S, qs, qs, Mat3::Zero(), dt);
+  EXPECT_NEAR(still.S(0, 0), 2.0e6 * r, 1e-9 * 2.0e6); // 1e-9: exp's and the sum's rounding
+  EXPECT_NEAR(still.I1, -3.0e6 * r, 1e-9 * 3.0e6);
+
+  Mat3 L = Mat3::Zero();
+  L(0, 0) = 100.0, L(1, 1) = -100.0;
+  CapState qs1 = qs;
+  qs1.volumetricStrain += 1.0e-6; // a plastic volume change in the step
+  const Mat3 Sn = qs.S + o.S;
+  c.T1 = 1.0e3; // tau / dt = 2e9: the overstress takes the trial's whole departure from qs
+  const CapOverstress slow = c.relax(o, Sn, qs, qs1, L, dt);
+  const Mat3 elastic = elasticTrial(Sn, L, dt, c.G);
+  EXPECT_LT(((qs1.S + slow.S) - elastic).norm(), 1e-6 * elastic.norm());
+  EXPECT_NEAR(slow.I1, o.I1 + 3.0 * c.K * 1.0e-6, 1e-6 * std::abs(o.I1));
+  c.T1 = 1.0e-15; // tau / dt = 2e-9: none left
+  const CapOverstress fast = c.relax(o, Sn, qs, qs1, L, dt);
+  EXPECT_LT(fast.S.norm(), 1e-8 * elastic.norm());
+  EXPECT_LT(std::abs(fast.I1), 1e-8 * 3.0 * c.K * 1.0e-6 + 1e-300);
+}
