@@ -8,7 +8,6 @@ is compared with (Bernoulli, the hydrodynamic limit, Alekseevskii-Tate, Lanz-Ode
 Every figure a run cannot give is None with the reason in r["notes"] (never NaN).
 """
 import math
-from pathlib import Path
 
 import numpy as np
 
@@ -424,4 +423,4 @@ def jsonable(x):
 
 
 __all__ = ["analyse", "fit_rates", "tate", "tate_rate", "tate_strengths", "lanz_odermatt",
-           "bernoulli_rate", "steady_window", "arrest", "jsonable", "Path"]
+           "bernoulli_rate", "steady_window", "arrest", "jsonable"]
