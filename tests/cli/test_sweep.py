@@ -10,7 +10,8 @@
 - another sweep into the same directory is refused (exit 2) and changes nothing;
 - a run that fails (an end time past max_steps is not a failure; a negative cfl is a deck error)
   is reported, the sweep exits 1, and the next sweep leaves it alone;
-- --dry-run prints one `spall run` per value with the value's --set;
+- --dry-run prints one `spall run` per value with the value's --set; keys joined by '&' move
+  together (one run per point, not per combination), a point short of a part exits 2;
 - `tools/penetration OUT` reads the sweep's runs in its order.
 
 usage: test_sweep.py SPALL SOURCE_DIR
@@ -94,6 +95,18 @@ def main(tmp):
     check(p.returncode == 0 and len(lines) == 2 and "body.rod.velocity=[0,-1500]" in lines[0],
           f"--dry-run: one spall run per value ({len(lines)} lines)")
     check(not out.exists(), "--dry-run writes nothing")
+    # Keys joined by '&' move together: two points, not four; a value short of a part is refused.
+    linked = [str(SWEEP), str(deck), "--out", str(out), "--spall", SPALL, "--dry-run", "--vary",
+              "body.rod.velocity&run.end_time", "[0,-1500]&2e-6", "[0,-2500]&3e-6"]
+    p = subprocess.run(linked, capture_output=True, text=True, env=ENV)
+    lines = p.stdout.strip().splitlines()
+    check(p.returncode == 0 and len(lines) == 2 and
+          all(f"body.rod.velocity=[0,-{v}]" in line and f"run.end_time={t}" in line
+              for line, v, t in zip(lines, (1500, 2500), ("2e-6", "3e-6"))),
+          f"--vary 'K1&K2' 'a1&a2' 'b1&b2': the keys move together ({len(lines)} runs)")
+    p = subprocess.run(linked[:-1] + ["[0,-2500]"], capture_output=True, text=True, env=ENV)
+    check(p.returncode == 2 and "2 keys" in p.stderr and not out.exists(),
+          f"a linked value short of a part: exit 2, said ({p.stderr.strip()[:100]})")
 
     # Interrupted: SIGTERM once both runs (2 ranks each, through mpirun) have written some rows.
     proc = subprocess.Popen(sweep(deck, out, "--np", "2"), stdout=subprocess.PIPE,

@@ -25,6 +25,7 @@ usage: test_penetration_analysis.py SOURCE_DIR
 """
 import json
 import math
+import subprocess
 import sys
 import tempfile
 from pathlib import Path
@@ -182,10 +183,36 @@ def fits(tmp):
           f"U = a + b V through two runs: no errors, said ({two.get('why')})")
 
 
+def unreadable(tmp):
+    """tools/penetration: a bad directory beside good runs is named and left out (exit 1), the
+    others' table printed; a corrupt sweep.json is a clear error (exit 2), not a traceback."""
+    tool = [sys.executable, str(SRC / "tools" / "penetration")]
+    (tmp / "not_a_run").mkdir()
+    dirs = [str(tmp / n) for n in ("fit_1500", "not_a_run", "fit_2000")]
+    p = subprocess.run(tool + dirs, capture_output=True, text=True)
+    check(p.returncode == 1 and "fit_1500" in p.stdout and "fit_2000" in p.stdout and
+          "not_a_run" in p.stderr and "Traceback" not in p.stderr,
+          f"a bad run directory left out and named, the table printed, exit 1 "
+          f"(exit {p.returncode})")
+    png = tmp / "rate.png"
+    p = subprocess.run(tool + [str(tmp / f"fit_{V}") for V in (1500, 2000, 2500, 3000)] +
+                       ["--rate-png", str(png)], capture_output=True, text=True)
+    check(p.returncode == 0 and png.is_file() and png.stat().st_size > 10000,
+          f"--rate-png: U against V drawn (exit {p.returncode}, "
+          f"{png.stat().st_size if png.is_file() else 0} bytes)")
+    (tmp / "sweep").mkdir()
+    (tmp / "sweep" / "sweep.json").write_text('{"runs": [')
+    p = subprocess.run(tool + [str(tmp / "sweep")], capture_output=True, text=True)
+    check(p.returncode == 2 and "sweep.json" in p.stderr and "Traceback" not in p.stderr,
+          f"a corrupt sweep.json: exit 2 with its name, no traceback (exit {p.returncode}: "
+          f"{p.stderr.strip()[:120]})")
+
+
 with tempfile.TemporaryDirectory() as d:
     tate_closed_forms()
     synthetic(Path(d))
     fits(Path(d))
+    unreadable(Path(d))
 
 print(f"\n{len(failures)} failure(s)" if failures else "\nall passed")
 sys.exit(1 if failures else 0)
