@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <span>
 
 namespace spall::app {
@@ -22,6 +23,11 @@ namespace {
 using sites::Shape;
 using sites::Site;
 using sites::toVec;
+
+// A graded body's or a file's particles each have a spacing of their own: their cell's size.
+bool ownSpacing(const BodyConfig& body) {
+  return body.grading || body.shape.type == ShapeType::Particles;
+}
 
 // Lattice sites about the origin with nearest spacing dx: cubic, or hexagonal (triangular in 2D,
 // hexagonal close packing in 3D). Returns the volume per site.
@@ -147,11 +153,91 @@ contactGroups(std::span<const Vec<Dim>> x, std::span<const std::int32_t> body,
   return root;
 }
 
+// The sites of a box's exact lattice (n_k = round(L_k/dx) cells of L_k/n_k from its min corner)
+// that lie in `shape`, over the shape's bounding box; rz: r > 0.
+template <int Dim>
+void anchoredSites(const Shape<Dim>& shape, const Vec<Dim>& lo, const Vec<Dim>& hi, double dx,
+                   bool rz, std::vector<Site<Dim>>& out) {
+  const auto [blo, bhi] = shape.bounds();
+  Vec<Dim> step;
+  std::int64_t first[3] = {0, 0, 0}, last[3] = {0, 0, 0};
+  double volume = 1.0;
+  for (int d = 0; d < Dim; ++d) {
+    const double n = std::max(1.0, std::round((hi[d] - lo[d]) / dx));
+    step[d] = (hi[d] - lo[d]) / n;
+    volume *= step[d];
+    first[d] = static_cast<std::int64_t>(std::floor((blo[d] - lo[d]) / step[d])) - 1;
+    last[d] = static_cast<std::int64_t>(std::ceil((bhi[d] - lo[d]) / step[d])) + 1;
+  }
+  for (std::int64_t k = first[2]; k <= last[2]; ++k)
+    for (std::int64_t j = first[1]; j <= last[1]; ++j)
+      for (std::int64_t i = first[0]; i <= last[0]; ++i) {
+        const std::int64_t idx[3] = {i, j, k};
+        Vec<Dim> x;
+        for (int d = 0; d < Dim; ++d) x[d] = lo[d] + (static_cast<double>(idx[d]) + 0.5) * step[d];
+        if (shape.contains(x) && (!rz || x[0] > 0.0)) out.push_back({x, volume});
+      }
+}
+
+// The region a file's particles stand for: each one's cube of its own volume about it (the cells
+// a mesher's particles fill), looked up in a grid of the coarsest cell.
+template <int Dim> class CloudRegion {
+public:
+  explicit CloudRegion(const ParticleCloud& c) : c_(c), cell_(c.coarsest) {
+    for (std::size_t i = 0; i < c.size(); ++i) cells_.emplace_back(keyOf(at(i)), i);
+    std::sort(cells_.begin(), cells_.end());
+  }
+  bool contains(const Vec<Dim>& x) const {
+    const Key k = keyOf(x);
+    const std::int64_t r2 = Dim >= 2 ? 1 : 0, r3 = Dim == 3 ? 1 : 0;
+    for (std::int64_t dz = -r3; dz <= r3; ++dz)
+      for (std::int64_t dy = -r2; dy <= r2; ++dy)
+        for (std::int64_t dx = -1; dx <= 1; ++dx) {
+          const Key q{k[0] + dx, k[1] + dy, k[2] + dz};
+          for (auto it = std::lower_bound(cells_.begin(), cells_.end(), std::make_pair(q, 0UL));
+               it != cells_.end() && it->first == q; ++it) {
+            const double half = 0.5 * std::pow(c_.volume[it->second], 1.0 / Dim);
+            if ((x - at(it->second)).cwiseAbs().maxCoeff() < half) return true;
+          }
+        }
+    return false;
+  }
+
+private:
+  using Key = std::array<std::int64_t, 3>;
+  Vec<Dim> at(std::size_t i) const {
+    Vec<Dim> x;
+    for (int d = 0; d < Dim; ++d) x[d] = c_.position[i * Dim + static_cast<std::size_t>(d)];
+    return x;
+  }
+  Key keyOf(const Vec<Dim>& x) const {
+    Key k{0, 0, 0};
+    for (int d = 0; d < Dim; ++d)
+      k[static_cast<std::size_t>(d)] = static_cast<std::int64_t>(std::floor(x[d] / cell_));
+    return k;
+  }
+  const ParticleCloud& c_;
+  double cell_;
+  std::vector<std::pair<Key, std::size_t>> cells_;
+};
+
+// A file's particles as sites (run.resolution does not apply: they are what the mesher made).
+template <int Dim> std::vector<Site<Dim>> cloudSites(const ParticleCloud& cloud, const Deck&) {
+  std::vector<Site<Dim>> out(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    for (int d = 0; d < Dim; ++d)
+      out[i].x[d] = cloud.position[i * static_cast<std::size_t>(Dim) + static_cast<std::size_t>(d)];
+    out[i].volume = cloud.volume[i];
+  }
+  return out;
+}
+
 // The lattice sites of a body's shape and the volume each stands for (run.resolution applied;
 // rz: the half-plane's sites, r > 0).
 template <int Dim> std::vector<Site<Dim>> latticeSites(const Deck& deck, const BodyConfig& body) {
   if (body.grading) return sites::gradedSites<Dim>(deck, body);
   const Shape<Dim> shape{body.shape};
+  if (body.shape.type == ShapeType::Particles) return cloudSites<Dim>(*body.shape.cloud, deck);
   const double dx = body.spacing / deck.run.resolution;
   const bool rz = deck.run.geometry == Geometry::RZ;
   Tensor<Dim> A = Tensor<Dim>::Identity();
@@ -181,18 +267,26 @@ template <int Dim> std::vector<Site<Dim>> latticeSites(const Deck& deck, const B
           if constexpr (Dim == 3) x[2] = lo[2] + (static_cast<double>(k) + 0.5) * step[2];
           out.push_back({x, volume});
         }
+  } else if (const ShapeConfig& box = shape.primary(); box.type == ShapeType::Box &&
+                                                       body.lattice == Lattice::Cubic &&
+                                                       !body.lattice_transform) {
+    // A union or difference built on a box (a rod and its nose, a plate with a hole): the box's
+    // exact lattice, continued over the whole shape.
+    anchoredSites<Dim>(shape, toVec<Dim>(box.min), toVec<Dim>(box.max), dx, rz, out);
   } else {
     // The lattice is mapped by A about the shape centre, so cover the preimage of the shape.
     Vec<Dim> c = shape.center();
-    // A cylinder along a lattice axis whose length is an odd number of spacings: the sites'
-    // half-integer offsets about the centre would put layers on both end planes (one kept,
-    // one not, by rounding); half a spacing along the axis puts them half a spacing inside,
-    // as for an even count (a Taylor bar then starts in contact with its wall at any
-    // resolution).
-    if (body.shape.type == ShapeType::Cylinder && body.lattice == Lattice::Cubic &&
-        !body.lattice_transform) {
-      const Vec<Dim> axis = toVec<Dim>(body.shape.axis).normalized();
-      const double layers = body.shape.length / dx, nearest = std::round(layers);
+    // A cylinder (or a cone, an ogive) along a lattice axis whose length is an odd number of
+    // spacings: the sites' half-integer offsets about the centre would put layers on both end
+    // planes (one kept, one not, by rounding); half a spacing along the axis puts them half a
+    // spacing inside, as for an even count (a Taylor bar then starts in contact with its wall
+    // at any resolution; a cone does not gain a layer on its base).
+    if (const ShapeType t = shape.primary().type;
+        (t == ShapeType::Cylinder || t == ShapeType::Cone || t == ShapeType::Ogive) &&
+        body.lattice == Lattice::Cubic && !body.lattice_transform) {
+      const ShapeConfig& cyl = shape.primary();
+      const Vec<Dim> axis = toVec<Dim>(cyl.axis).normalized();
+      const double layers = cyl.length / dx, nearest = std::round(layers);
       const bool odd = std::abs(layers - nearest) < 1e-6 * layers && std::fmod(nearest, 2.0) == 1.0;
       const bool alongLatticeAxis = std::abs(axis.cwiseAbs().maxCoeff() - 1.0) < 1e-12;
       if (odd && alongLatticeAxis) c += (0.5 * dx) * axis;
@@ -279,7 +373,7 @@ double fillBody(const Deck& deck, const std::vector<materials::Material>& materi
     Vec<Dim> xi = s.x;
     if (body.jitter > 0.0) {
       // A graded body's offsets follow its local spacing.
-      const double scale = body.grading ? std::pow(s.volume, 1.0 / Dim) : dx;
+      const double scale = ownSpacing(body) ? std::pow(s.volume, 1.0 / Dim) : dx;
       for (int d = 0; d < Dim; ++d)
         xi[d] +=
             body.jitter * scale * hashedUniform(deck.run.seed, idk, static_cast<std::uint64_t>(d));
@@ -349,10 +443,12 @@ std::vector<BodySummary> generateBodies(const Deck& deck,
     const double detA = std::abs(A.determinant());
     // Particles (the shape's measure over a site's, hexagonal lattices being denser by at most
     // sqrt 2) and the lattice sites visited to find them (a cube about the shape).
-    const double across = 2.0 * shape.extent() * A.inverse().norm() / dx + 4.0;
+    const bool cloud = body.shape.type == ShapeType::Particles;
+    const double across = cloud ? 0.0 : 2.0 * shape.extent() * A.inverse().norm() / dx + 4.0;
     if (body.grading && across < 1e8) sites::checkGradedLayers<Dim>(deck, body);
-    made += body.grading ? sites::gradedSiteEstimate<Dim>(deck, body)
-                         : 1.5 * shape.measure() / detA / std::pow(dx, Dim);
+    made += cloud          ? static_cast<double>(body.shape.cloud->size())
+            : body.grading ? sites::gradedSiteEstimate<Dim>(deck, body)
+                           : 1.5 * shape.measure() / detA / std::pow(dx, Dim);
     if (!(made * perSite < available))
       throw DeckError(
           body.where,
@@ -379,9 +475,12 @@ std::vector<BodySummary> generateBodies(const Deck& deck,
     if (!body.allow_overlap && !(body.insert_time > 0.0)) {
       for (std::size_t o = 0; o < b; ++o) {
         if (deck.bodies[o].insert_time > 0.0) continue;
-        const Shape<Dim> other{deck.bodies[o].shape};
+        const ShapeConfig& oc = deck.bodies[o].shape;
+        const Shape<Dim> other{oc};
+        std::optional<CloudRegion<Dim>> cells;
+        if (oc.type == ShapeType::Particles) cells.emplace(*oc.cloud);
         for (const auto& s : out) {
-          if (other.contains(s.x)) {
+          if (cells ? cells->contains(s.x) : other.contains(s.x)) {
             throw DeckError(body.where,
                             fmt::format("body '{}' overlaps body '{}' (a particle at distance "
                                         "{:g} m from the origin lies inside both); set "
@@ -419,8 +518,8 @@ std::vector<BodySummary> generateBodies(const Deck& deck,
     for (std::size_t b = 0; b < deck.bodies.size(); ++b) {
       if (deck.bodies[b].insert_time > 0.0) continue;
       for (const auto& site : sites[b])
-        local.push_back(deck.bodies[b].grading ? std::pow(site.volume, 1.0 / Dim)
-                                               : summary[b].spacing);
+        local.push_back(ownSpacing(deck.bodies[b]) ? std::pow(site.volume, 1.0 / Dim)
+                                                   : summary[b].spacing);
     }
     const auto group = contactGroups<Dim>(x.first(kept), bod.first(kept), local, summary.size(),
                                           deck.solver.contact == Contact::Auto);

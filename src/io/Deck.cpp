@@ -82,6 +82,7 @@ private:
   std::size_t dimension_ = 0;
   std::vector<std::string> jetNames_; // [[jet]] names: a penetrator may name a whole jet
   bool rz_ = false;                   // run.geometry = "rz"
+  double resolution_ = 1.0;           // run.resolution
 };
 
 void DeckReader::read(Deck& deck) {
@@ -142,6 +143,16 @@ void DeckReader::read(Deck& deck) {
   if (!deck.solver.artificial_stress.given) deck.solver.artificial_stress.enabled = solids;
   if (!deck.solver.artificial_viscosity.reconstructGiven)
     deck.solver.artificial_viscosity.reconstruct = solids;
+  // Flaws activate at any tension, and a free surface's one-sided sums ring into tension when a
+  // shock arrives there or reflects: a flyer's rear face failed its two outermost rows as the
+  // 3 GPa shock reached it (+234 MPa where the stress is 0), a target's rear its outermost. The
+  // corrected gradient, exact for a linear field where the support is cut, keeps them whole
+  // (tests/verification/test_contact_faces.py; decks/topics/damage.md).
+  const bool flaws = std::any_of(deck.materials.begin(), deck.materials.end(), [](const auto& m) {
+    return !m.strength.none() && std::holds_alternative<materials::GradyKipp>(m.damage.model);
+  });
+  if (!deck.solver.velocityGradientGiven)
+    deck.solver.velocity_gradient = flaws ? VelocityGradient::Corrected : VelocityGradient::Sph;
 
   entries("energy_source", deck.energy_sources, [&](const TableReader& r, EnergySourceConfig& e) {
     keys::readEnergySource(r, e, dimension_);
@@ -203,6 +214,7 @@ void DeckReader::readRun(const TableReader& r, RunConfig& run) {
   notes_.si = run.units == Units::SI; // a scaled deck's numbers have no SI bounds to meet
   dimension_ = static_cast<std::size_t>(run.dimension);
   rz_ = run.geometry == Geometry::RZ;
+  resolution_ = run.resolution;
 }
 
 void DeckReader::readBody(const TableReader& r, const std::vector<MaterialConfig>& materials,
@@ -228,6 +240,20 @@ void DeckReader::readBody(const TableReader& r, const std::vector<MaterialConfig
   }
   keys::readVelocityFields(r, dimension_, b);
   keys::readGrading(r, dimension_, b);
+  if (b.shape.type == ShapeType::Particles) {
+    // A file's particles are as the mesher made them: each one's spacing is its volume's root.
+    // (lattice = "cubic" is the default the deck as run writes: no lattice is made either way.)
+    // The body's spacing is their coarsest, run.resolution undone (spacing / resolution is a
+    // body's spacing as made, everywhere it is read).
+    for (const char* key : {"spacing", "lattice", "lattice_transform", "grading"})
+      if (r.has(key) && !(key == std::string_view("lattice") && b.lattice == Lattice::Cubic))
+        r.fail(key, r.quoted(key) + " is for lattice shapes: a 'particles' shape's are the "
+                                    "file's, each with the spacing of its own volume");
+    b.spacing = b.shape.cloud->coarsest * resolution_;
+    b.spacingWhere = b.shape.where;
+  } else if (!r.has("spacing")) {
+    r.missing("spacing");
+  }
   // Graded bodies are layers of their own lattice (app/GradedSites.cpp).
   if (b.grading && (b.lattice != Lattice::Cubic || b.lattice_transform))
     r.fail("grading", r.quoted("grading") +

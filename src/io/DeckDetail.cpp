@@ -196,13 +196,31 @@ std::string didYouMean(std::string_view word, const Names& candidates) {
   return best.empty() ? std::string() : " (did you mean '" + std::string(best) + "'?)";
 }
 
+namespace {
+// A nested shape (a union's shapes, a difference's from and minus, at any depth) is a shape:
+// its schema path is body.shape's.
+constexpr std::string_view kShape = "body.shape";
+std::string_view canonical(std::string_view path) {
+  if (!path.starts_with(kShape) || path.size() == kShape.size() || path[kShape.size()] != '.')
+    return path;
+  for (std::string_view rest = path.substr(kShape.size() + 1); !rest.empty();) {
+    const std::size_t dot = rest.find('.');
+    if (!contains({"shapes", "from", "minus"}, rest.substr(0, dot))) return path;
+    rest = dot == std::string_view::npos ? std::string_view{} : rest.substr(dot + 1);
+  }
+  return kShape;
+}
+} // namespace
+
 const Names* schemaKeys(std::string_view schemaPath) {
   const auto& s = schema();
-  const auto it = s.find(schemaPath);
+  const auto it = s.find(canonical(schemaPath));
   return it == s.end() ? nullptr : &it->second;
 }
 
 bool isArrayOfTables(std::string_view schemaPath) {
+  if (schemaPath != kShape && canonical(schemaPath) == kShape)
+    return schemaPath.ends_with(".shapes") || schemaPath.ends_with(".minus");
   return contains({"material", "body", "energy_source", "boundary", "probe", "jet"}, schemaPath);
 }
 
@@ -233,6 +251,14 @@ Context Context::child(std::string_view key) const {
   if (dotted.empty()) return {"[" + std::string(key) + "]", std::string(key), std::move(p)};
   return {"the " + std::string(key) + " of " + human, dotted + "." + std::string(key),
           std::move(p)};
+}
+
+Context Context::item(std::string_view key, std::size_t index) const {
+  std::vector<PathStep> p = path;
+  p.push_back({std::string(key), index});
+  const std::string i = std::to_string(index + 1);
+  return {"entry " + i + " of the " + std::string(key) + " of " + human,
+          dotted + "." + std::string(key) + "." + i, std::move(p)};
 }
 
 Context Context::entry(std::string_view kind, const toml::table& table, std::size_t index) {
@@ -404,6 +430,26 @@ std::optional<std::vector<std::vector<double>>> TableReader::matrix(std::string_
   return m;
 }
 
+std::optional<std::vector<std::vector<double>>> TableReader::points(std::string_view key,
+                                                                    std::size_t n) const {
+  const toml::node* node = table_.get(key);
+  if (!node) return std::nullopt;
+  const std::string what = quoted(key) + " must be an array of points, each [" +
+                           std::string(n == 2 ? "x, y" : "x, y, z") + "]";
+  const toml::array* rows = node->as_array();
+  if (!rows) fail(key, what + ", got " + typeName(*node));
+  std::vector<std::vector<double>> m;
+  for (const toml::node& row : *rows) {
+    const toml::array* r = row.as_array();
+    if (!r || r->size() != n)
+      throw DeckError(whereNode(row), what + ": each needs " + std::to_string(n) + " numbers");
+    std::vector<double> values;
+    for (const toml::node& e : *r) values.push_back(numberFrom(e, key, false));
+    m.push_back(std::move(values));
+  }
+  return m;
+}
+
 namespace {
 
 // An array of one TOML type ("strings", "integers"): get(node) is the entry's value, or nullptr.
@@ -497,6 +543,28 @@ int materialIndex(const TableReader& r, const std::string& name,
 
 namespace spall {
 
+namespace {
+// The least width of a polygon's convex hull: across its narrowest direction, which is normal to
+// one of the hull's edges (and so to one of the polygon's: every hull edge is one, or bridges a
+// dent the polygon is wider than).
+double polygonWidth(const std::vector<std::vector<double>>& p) {
+  double least = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    const auto& a = p[k];
+    const auto& b = p[(k + 1) % p.size()];
+    const double ex = b[0] - a[0], ey = b[1] - a[1], len = std::hypot(ex, ey);
+    if (len == 0.0) continue;
+    double lo = 0.0, hi = 0.0;
+    for (const auto& q : p) {
+      const double d = ((q[0] - a[0]) * ey - (q[1] - a[1]) * ex) / len;
+      lo = std::min(lo, d), hi = std::max(hi, d);
+    }
+    least = std::min(least, hi - lo);
+  }
+  return least;
+}
+} // namespace
+
 double thinnestWidth(const ShapeConfig& s) {
   double width = std::numeric_limits<double>::infinity();
   switch (s.type) {
@@ -508,10 +576,27 @@ double thinnestWidth(const ShapeConfig& s) {
     width = 2.0 * s.radius;
     break;
   case ShapeType::Cylinder:
+  case ShapeType::Cone:
+  case ShapeType::Ogive:
     width = std::min(2.0 * s.radius, s.length);
     break;
   case ShapeType::Ring:
     width = s.outer_radius - s.inner_radius;
+    break;
+  case ShapeType::Polygon:
+    width = polygonWidth(s.points);
+    break;
+  case ShapeType::Union:
+  case ShapeType::Difference:
+    // What a composite is built on (a rod under its nose, the plate a hole is cut from): the
+    // parts added to it are no thinner than what they join, and a cut's walls are not known.
+    width = s.parts.empty() ? width : thinnestWidth(s.parts.front());
+    break;
+  case ShapeType::Particles:
+    if (s.cloud) {
+      for (std::size_t a = 0; a < s.cloud->lo.size(); ++a)
+        width = std::min(width, s.cloud->hi[a] - s.cloud->lo[a] + s.cloud->coarsest);
+    }
     break;
   }
   return width;
@@ -519,7 +604,16 @@ double thinnestWidth(const ShapeConfig& s) {
 
 double penetratorRadius(const ShapeConfig& s, bool rz) {
   if (rz && s.type == ShapeType::Box && !s.min.empty() && s.min[0] == 0.0) return s.max[0];
-  if (s.type == ShapeType::Cylinder || s.type == ShapeType::Sphere) return s.radius;
+  if (s.type == ShapeType::Cylinder || s.type == ShapeType::Sphere || s.type == ShapeType::Cone ||
+      s.type == ShapeType::Ogive)
+    return s.radius;
+  if ((s.type == ShapeType::Union || s.type == ShapeType::Difference) && !s.parts.empty())
+    return penetratorRadius(s.parts.front(), rz);
+  if (rz && s.type == ShapeType::Polygon) {
+    double r = 0.0; // a body of revolution: its widest ring
+    for (const auto& p : s.points) r = std::max(r, p[0]);
+    return r;
+  }
   return 0.5 * thinnestWidth(s);
 }
 

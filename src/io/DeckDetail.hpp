@@ -59,6 +59,9 @@ struct Context {
   std::string dotted; // "run", "body.striker", "body.striker.shape"; "" at top level
   std::vector<PathStep> path; // the same table, for the program (names may hold any character)
   Context child(std::string_view key) const;
+  // The `index`th (0-based) table of the array `key` in this one: "shape 2 of the shape of body
+  // 'rod'", "body.rod.shape.shapes.2".
+  Context item(std::string_view key, std::size_t index) const;
   // One [[kind]] entry: by its name where the kind has names (and this one a usable name), else
   // by its 1-based index ("boundary 2", "boundary.2").
   static Context entry(std::string_view kind, const toml::table& table, std::size_t index);
@@ -111,6 +114,9 @@ public:
   DeckNotes* notes() const { return notes_; }
   // A default applied to the absent `key`, `toml` its value as TOML ("0.25", "\"auto\"").
   void noteDefault(std::string_view key, const std::string& toml) const;
+  // A value the deck as run states resolved (`toml`): a file's absolute path.
+  void noteResolved(std::string_view key, const std::string& toml) const { noteDefault(key, toml); }
+
   // A plausibility warning of a value a unit slip would give, at the key's value (or the table,
   // if absent); none in a scaled deck.
   void warn(std::string_view key, const std::string& message) const;
@@ -136,6 +142,8 @@ public:
   std::optional<std::vector<double>> vector(std::string_view key, std::size_t n) const;
   std::optional<std::vector<std::vector<double>>> matrix(std::string_view key,
                                                          std::size_t n) const; // n x n
+  // Any number of points of n coordinates each: [[x, y], ...].
+  std::optional<std::vector<std::vector<double>>> points(std::string_view key, std::size_t n) const;
   std::optional<std::vector<std::string>> strings(std::string_view key) const;
   std::optional<std::vector<std::int64_t>> integers(std::string_view key) const;
   const toml::table* subtable(std::string_view key) const;

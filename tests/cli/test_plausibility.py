@@ -53,7 +53,11 @@ def spall(*args):
 
 with tempfile.TemporaryDirectory() as d:
     tmp = Path(d)
-    text = DECK.read_text()
+    # The library materials written out in the copy, so that each slip is at a line of it.
+    text = re.sub(r'^library = "(\w+)".*$',
+                  lambda m: "\n".join(l for l in (DECK.parent / "materials" / f"{m[1]}.toml")
+                                       .read_text().splitlines() if l and not l.startswith("#")),
+                  DECK.read_text(), flags=re.M)
     for what, old, new, words in SLIPS:
         assert text.count(old) >= 1, old
         deck = tmp / (re.sub(r"\W+", "_", what) + ".toml")

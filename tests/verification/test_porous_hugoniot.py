@@ -33,6 +33,7 @@ that case is left out there.
 
 usage: test_porous_hugoniot.py SPALL SOURCE_DIR [--speeds=A,B] [--set K=V ...]
 """
+import re
 import subprocess
 import sys
 import tempfile
@@ -106,7 +107,10 @@ def load(path):
                                       "specific_internal_energy")}, float(f.attrs["time"])
 
 
+# The deck and the library materials it starts from (decks/materials/NAME.toml).
 deck_text = DECK.read_text()
+deck_text += "".join((DECK.parent / "materials" / f"{name}.toml").read_text()
+                     for name in re.findall(r'^library = "(\w+)"', deck_text, re.M))
 for token in ("alpha0 = 1.4", "elastic_pressure = 2.0e6", "solid_pressure = 1.0e9",
               "exponent = 2.0", "c0 = 5350.0, s = 1.34, gamma0 = 2.0", "density = 2703.0"):
     check(token in deck_text, f"the deck has {token}")

@@ -9,7 +9,7 @@ it is not resolved: U/U_H 0.62-0.72):
   just behind it (solved here: Rankine-Hugoniot from rest, P = P_eos(alpha rho, e)/alpha with
   alpha = alpha_c(P), spall's Tillotson re-implemented). Within 15%: the front decelerates with
   the projectile and is curved, U is a difference over 1 us and u an average over a millimetre;
-  measured 0.85-0.97, see the table this prints;
+  measured 0.88-0.98, see the table this prints;
 - irreversibility: no particle's distension grows between snapshots;
 - no particle above the crush curve: alpha <= alpha_c(P) + 0.05 (the material update puts alpha on
   the curve at the density it sees; the step's final evaluation at the kick-corrected density

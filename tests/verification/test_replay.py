@@ -221,7 +221,7 @@ with tempfile.TemporaryDirectory() as tmp:
             dalpha = float(np.max(np.abs(a["porosity_alpha"] - b["porosity_alpha"])))
             dd = float(np.max(np.abs(a["damage"] - b["damage"])))
             check(np.array_equal(a["t"], b["t"]) and worst < 1e-11 and dalpha < 1e-12 and
-                  dd < 1e-12 and a["porosity_alpha"][-1] < 1.5,
+                  dd < 1e-12 and a["porosity_alpha"][-1] < 2.0,  # compacted: alpha0 = 3
                   f"pumice particle {pid}{variant}: replayed stress within {worst:.1e} of the run's, "
                   f"alpha within {dalpha:.1e}, damage within {dd:.1e}; it compacted to alpha = "
                   f"{a['porosity_alpha'][-1]:.4f}, damage {a['damage'][-1]:.3f}")

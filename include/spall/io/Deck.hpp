@@ -14,6 +14,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -162,20 +163,56 @@ struct MaterialConfig {
   SourceLocation where;
 };
 
-enum class ShapeType { Box, Sphere, Cylinder, Ring };
-inline constexpr NameTable<ShapeType, 4> kShapeNames{{{{ShapeType::Box, "box"},
-                                                       {ShapeType::Sphere, "sphere"},
-                                                       {ShapeType::Cylinder, "cylinder"},
-                                                       {ShapeType::Ring, "ring"}}}};
+enum class ShapeType {
+  Box,
+  Sphere,
+  Cylinder,
+  Ring,
+  Cone,
+  Ogive,
+  Polygon,
+  Union,
+  Difference,
+  Particles
+};
+inline constexpr NameTable<ShapeType, 10> kShapeNames{{{{ShapeType::Box, "box"},
+                                                        {ShapeType::Sphere, "sphere"},
+                                                        {ShapeType::Cylinder, "cylinder"},
+                                                        {ShapeType::Ring, "ring"},
+                                                        {ShapeType::Cone, "cone"},
+                                                        {ShapeType::Ogive, "ogive"},
+                                                        {ShapeType::Polygon, "polygon"},
+                                                        {ShapeType::Union, "union"},
+                                                        {ShapeType::Difference, "difference"},
+                                                        {ShapeType::Particles, "particles"}}}};
+
+// Particles read from a file (a mesher's output): each one's position and the volume it stands
+// for (an area in 2D and rz, the r-z half-plane's; a length in 1D). Read once by the deck reader
+// (io/ParticleFile.cpp), shared by every copy of the deck.
+struct ParticleCloud {
+  std::string path; // absolute
+  std::size_t dimension = 0;
+  std::vector<double> position; // dimension values a particle, row after row
+  std::vector<double> volume;
+  std::size_t size() const { return volume.size(); }
+  double coarsest = 0.0, finest = 0.0; // the largest and smallest volume^(1/dimension)
+  std::vector<double> lo, hi;          // the positions' bounding box
+};
 
 struct ShapeConfig {
   ShapeType type = ShapeType::Box;
   std::vector<double> min, max;                  // box
   std::vector<double> center;                    // sphere, ring
-  double radius = 0.0;                           // sphere, cylinder
-  std::vector<double> base, axis;                // cylinder (3D)
-  double length = 0.0;                           // cylinder
+  double radius = 0.0;                           // sphere, cylinder, cone and ogive (the base's)
+  std::vector<double> base, axis;                // cylinder (3D); cone, ogive (2D, rz, 3D)
+  double length = 0.0;                           // cylinder, cone, ogive
   double inner_radius = 0.0, outer_radius = 0.0; // ring (2D)
+  double tip_radius = 0.0;                       // cone: 0 a point, else a frustum
+  std::vector<std::vector<double>> points;       // polygon (2D, rz): its vertices in order
+  // union: every part; difference: the part the others (parts[1...]) are cut from, parts[0].
+  std::vector<ShapeConfig> parts;
+  std::string file;                           // particles: the file as the deck names it
+  std::shared_ptr<const ParticleCloud> cloud; // particles: the file's particles
   SourceLocation where;
 };
 

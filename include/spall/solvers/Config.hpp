@@ -138,7 +138,8 @@ struct SolverConfig {
   ArtificialViscosityConfig artificial_viscosity;
   ArtificialStressConfig artificial_stress;
   VelocityGradient velocity_gradient = VelocityGradient::Sph;
-  Contact contact = Contact::Welded; // a deck's default is Auto (io/keys/SolverKeys.cpp)
+  bool velocityGradientGiven = false; // the deck sets velocity_gradient (else: io/Deck.cpp)
+  Contact contact = Contact::Welded;  // a deck's default is Auto (io/keys/SolverKeys.cpp)
   // Limits on the smoothing scale: absolute bounds [h_min, h_max] in m (0 / inf: none), and
   // bounds relative to the particle's own volume, h_min_ratio <= h / (n_h (m/rho)^(1/dim)) <=
   // h_max_ratio. The upper one stops h from growing without end at free surfaces, where the

@@ -3,7 +3,13 @@
 // segments.
 #include "Keys.hpp"
 
+#include "spall/io/ParticleFile.hpp"
+
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <memory>
+#include <sstream>
 
 namespace spall::io::keys {
 
@@ -16,7 +22,8 @@ template <class K> void keysOf(K& k, BodyConfig& b) {
   k.text("material", b.material, required, "a [[material]]'s name",
          "The material its particles are made of.");
   k.table("shape", "required", "", "The region it fills: {type = ..., ...}.");
-  k.number("spacing", b.spacing, required, "m", above(0),
+  k.number("spacing", b.spacing,
+           Depends{"required, except with a 'particles' shape (the file's volumes)"}, "m", above(0),
            "The lattice spacing of its particles, divided by run.resolution.");
   k.choice("lattice", b.lattice, kLatticeNames, keep,
            "hexagonal: triangular in 2D, hexagonal close packing in 3D.");
@@ -126,6 +133,70 @@ template <class K> void ringKeys(K& k, ShapeConfig& s) {
            "The outer radius.");
 }
 
+template <class K> void coneKeys(K& k, ShapeConfig& s) {
+  k.section("cone", "A cone or a frustum about an axis (2D: its section, a trapezoid; rz: about "
+                    "the z axis), a penetrator's conical nose.");
+  k.vector("base", s.base, required, "m", "in rz: on the axis (r = 0)",
+           "The centre of the base, the wider end.");
+  k.vector("axis", s.axis, required, "", "not zero; in rz along z",
+           "The direction from the base to the tip (any length).");
+  k.number("radius", s.radius, required, "m", above(0), "The radius of the base.");
+  k.number("length", s.length, required, "m", above(0), "The length from the base to the tip.");
+  k.number("tip_radius", s.tip_radius, keep, "m", withinClosedOpen(0, "radius", s.radius),
+           "The radius at the tip: 0 a point, else a frustum's flat.");
+}
+
+template <class K> void ogiveKeys(K& k, ShapeConfig& s) {
+  k.section("ogive", "A tangent ogive about an axis (2D: its section; rz: about the z axis): the "
+                     "arc of radius (R^2 + L^2)/(2R) that meets the shank tangentially at the base "
+                     "and the axis at the tip.");
+  k.vector("base", s.base, required, "m", "in rz: on the axis (r = 0)",
+           "The centre of the base, where the nose meets the shank.");
+  k.vector("axis", s.axis, required, "", "not zero; in rz along z",
+           "The direction from the base to the tip (any length).");
+  k.number("radius", s.radius, required, "m", above(0), "R, the shank's radius.");
+  k.number("length", s.length, required, "m", atLeast("radius", s.radius),
+           "L, the nose's length; L = R is a hemisphere, a caliber-radius-head of n has "
+           "L = R sqrt(4n - 1).");
+}
+
+template <class K> void polygonKeys(K& k, ShapeConfig& s) {
+  k.section("polygon", "A simple polygon, 2D and rz (revolved about the axis): any section.");
+  k.other("points", "float[2][]", "required", "m",
+          "3 or more; edges that do not cross; in rz: r >= 0",
+          "Its vertices in order round it (either way), the last joined to the first.");
+  (void)s;
+}
+
+template <class K> void unionKeys(K& k, ShapeConfig& s) {
+  k.section("union", "Every point of any of its shapes: a rod with a nose, an assembly of one "
+                     "material. The lattice is the first shape's (a box's exact lattice carried "
+                     "over the rest).");
+  k.other("shapes", "[table]", "required", "", "2 or more shapes, any type but 'particles'",
+          "The shapes joined: [{type = ..., ...}, ...].");
+  (void)s;
+}
+
+template <class K> void differenceKeys(K& k, ShapeConfig& s) {
+  k.section("difference", "A shape with others cut out of it: a hollow charge's liner, a plate "
+                          "with a hole. The lattice is `from`'s.");
+  k.other("from", "table", "required", "", "any type but 'particles'",
+          "The shape cut from: {type = ..., ...}.");
+  k.other("minus", "[table]", "required", "", "1 or more shapes, any type but 'particles'",
+          "The shapes cut out: [{type = ..., ...}, ...].");
+  (void)s;
+}
+
+template <class K> void particlesKeys(K& k, ShapeConfig& s) {
+  k.section("particles", "Particles read from a file (a mesher's): their positions and the "
+                         "volumes they stand for (in 2D and rz the cell's area in the plane, in "
+                         "1D its length). run.resolution and lattice do not apply; the body takes "
+                         "no spacing (each particle's is its volume's root).");
+  k.text("file", s.file, required,
+         "CSV (header x[,y[,z]],volume; rz: r,z,volume) or HDF5 (.h5: position [N][dim], volume "
+         "[N]), relative to the deck.");
+}
+
 template <class K> void keysOf(K& k, RadialVelocityConfig& v) {
   k.section("", "A velocity along (x - center)/|x - center| added to every particle of the body.");
   k.vector("center", v.center, required, "m", "", "The point it points away from.");
@@ -178,6 +249,12 @@ const auto kBox = [](auto& k, ShapeConfig& s) { boxKeys(k, s); };
 const auto kSphere = [](auto& k, ShapeConfig& s) { sphereKeys(k, s); };
 const auto kCylinder = [](auto& k, ShapeConfig& s) { cylinderKeys(k, s); };
 const auto kRing = [](auto& k, ShapeConfig& s) { ringKeys(k, s); };
+const auto kCone = [](auto& k, ShapeConfig& s) { coneKeys(k, s); };
+const auto kOgive = [](auto& k, ShapeConfig& s) { ogiveKeys(k, s); };
+const auto kPolygon = [](auto& k, ShapeConfig& s) { polygonKeys(k, s); };
+const auto kUnion = [](auto& k, ShapeConfig& s) { unionKeys(k, s); };
+const auto kDifference = [](auto& k, ShapeConfig& s) { differenceKeys(k, s); };
+const auto kParticles = [](auto& k, ShapeConfig& s) { particlesKeys(k, s); };
 const auto kKeys = [](auto& k, auto& c) -> decltype(keysOf(k, c)) { keysOf(k, c); };
 
 // In geometry 'rz' a round shape is a body of revolution: centred on the axis (a sphere, a
@@ -198,13 +275,21 @@ std::vector<KeySection> body() {
        "",
        "The region a body fills; particles are the lattice sites inside it.",
        {
-           {"type", "one of: box, sphere, cylinder, ring", "required", "", "",
-            "The shape; the other keys are its type's."},
+           {"type",
+            "one of: box, sphere, cylinder, ring, cone, ogive, polygon, union, difference, "
+            "particles",
+            "required", "", "", "The shape; the other keys are its type's."},
        }},
       sectionOf<ShapeConfig>("body.shape", kBox),
       sectionOf<ShapeConfig>("body.shape", kSphere),
       sectionOf<ShapeConfig>("body.shape", kCylinder),
       sectionOf<ShapeConfig>("body.shape", kRing),
+      sectionOf<ShapeConfig>("body.shape", kCone),
+      sectionOf<ShapeConfig>("body.shape", kOgive),
+      sectionOf<ShapeConfig>("body.shape", kPolygon),
+      sectionOf<ShapeConfig>("body.shape", kUnion),
+      sectionOf<ShapeConfig>("body.shape", kDifference),
+      sectionOf<ShapeConfig>("body.shape", kParticles),
       sectionOf<RadialVelocityConfig>("body.radial_velocity", kKeys),
       sectionOf<CantileverVelocityConfig>("body.cantilever_velocity", kKeys),
       sectionOf<LinearVelocityConfig>("body.linear_velocity", kKeys),
@@ -226,6 +311,97 @@ void readBody(const deck_detail::TableReader& r, BodyConfig& b, std::size_t dime
           std::sqrt(speed2));
 }
 
+namespace {
+
+// A body of revolution in rz turns about the z axis: its base on it, its axis along it.
+void checkOnAxis(const deck_detail::TableReader& r, bool rz, const ShapeConfig& s) {
+  if (!rz) return;
+  if (s.base[0] != 0.0)
+    r.fail("base", r.quoted("base") + " has r = " + deck_detail::formatNumber(s.base[0]) +
+                       ": in geometry 'rz' a cone or an ogive turns about the axis (r = 0)");
+  if (s.axis[0] != 0.0)
+    r.fail("axis", r.quoted("axis") + " must lie along z in geometry 'rz' ([0, 1] or [0, -1])");
+}
+
+// Whether segments pq and uv cross (share a point other than a common end).
+bool segmentsCross(const std::vector<double>& p, const std::vector<double>& q,
+                   const std::vector<double>& u, const std::vector<double>& v) {
+  const auto orient = [](const std::vector<double>& a, const std::vector<double>& b,
+                         const std::vector<double>& c) {
+    const double o = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    return (o > 0.0) - (o < 0.0);
+  };
+  const int o1 = orient(p, q, u), o2 = orient(p, q, v), o3 = orient(u, v, p), o4 = orient(u, v, q);
+  if (o1 != o2 && o3 != o4 && o1 * o2 <= 0 && o3 * o4 <= 0) {
+    // Touching at a shared end is the polygon's own vertex, not a crossing.
+    return !(p == u || p == v || q == u || q == v);
+  }
+  const auto onSegment = [](const std::vector<double>& a, const std::vector<double>& b,
+                            const std::vector<double>& c) { // c on ab, given collinear
+    return std::min(a[0], b[0]) <= c[0] && c[0] <= std::max(a[0], b[0]) &&
+           std::min(a[1], b[1]) <= c[1] && c[1] <= std::max(a[1], b[1]);
+  };
+  // Collinear overlaps: an edge folded back on another.
+  if (o1 == 0 && o2 == 0)
+    return (onSegment(p, q, u) && u != p && u != q) || (onSegment(p, q, v) && v != p && v != q) ||
+           (onSegment(u, v, p) && p != u && p != v);
+  return false;
+}
+
+void readPolygon(const deck_detail::TableReader& r, ShapeConfig& s, std::size_t dimension,
+                 bool rz) {
+  using deck_detail::formatNumber;
+  s.points = r.required(r.points("points", dimension), "points");
+  const std::size_t n = s.points.size();
+  if (n < 3)
+    r.fail("points", r.quoted("points") + " needs 3 or more vertices, got " + std::to_string(n));
+  double area = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto& p = s.points[k];
+    const auto& q = s.points[(k + 1) % n];
+    area += p[0] * q[1] - q[0] * p[1];
+    if (rz && p[0] < 0.0)
+      r.fail("points", r.quoted("points") + " vertex " + std::to_string(k + 1) + " has r = " +
+                           formatNumber(p[0]) + " < 0: in geometry 'rz' x is the radius");
+  }
+  for (std::size_t a = 0; a < n; ++a)
+    for (std::size_t b = a + 1; b < n; ++b) {
+      const bool adjacent = b == a + 1 || (a == 0 && b == n - 1);
+      if (adjacent) continue; // they share a vertex by construction
+      if (segmentsCross(s.points[a], s.points[(a + 1) % n], s.points[b], s.points[(b + 1) % n]))
+        r.fail("points", r.quoted("points") + " edges " + std::to_string(a + 1) + " and " +
+                             std::to_string(b + 1) +
+                             " cross: a polygon's edges meet only at their vertices (a union or "
+                             "difference of polygons makes other regions)");
+    }
+  if (!(std::abs(area) > 0.0))
+    r.fail("points", r.quoted("points") + " encloses no area (its vertices lie on a line)");
+}
+
+// A nested shape's reader: the table at `node`, named as the `index`th (0-based) of `key`, or
+// as `key` itself.
+deck_detail::TableReader partReader(const deck_detail::TableReader& r, const toml::table& t,
+                                    std::string_view key, std::optional<std::size_t> index) {
+  return {t, index ? r.context().item(key, *index) : r.context().child(key), r.deckPath(),
+          r.notes()};
+}
+
+void readParts(const deck_detail::TableReader& r, const char* key, std::size_t atLeastCount,
+               ShapeConfig& s, std::size_t dimension, bool rz) {
+  const auto tables = r.tables(key);
+  if (tables.size() < atLeastCount)
+    r.fail(key, r.quoted(key) + " needs " + std::to_string(atLeastCount) + " or more shapes, got " +
+                    std::to_string(tables.size()));
+  for (std::size_t k = 0; k < tables.size(); ++k) {
+    readShape(partReader(r, *tables[k], key, k), s.parts.emplace_back(), dimension, rz);
+    if (s.parts.back().type == ShapeType::Particles)
+      r.fail(key, r.quoted(key) + " holds a 'particles' shape: a file's particles are a body "
+                                  "of their own (join or cut lattice shapes only)");
+  }
+}
+
+} // namespace
+
 void readShape(const deck_detail::TableReader& r, ShapeConfig& s, std::size_t dimension, bool rz) {
   using deck_detail::formatNumber;
   s.where = r.where();
@@ -236,6 +412,12 @@ void readShape(const deck_detail::TableReader& r, ShapeConfig& s, std::size_t di
     r.fail("type", "shape 'cylinder' is 3D only (use 'sphere' or 'box' in 1D and 2D" + dims);
   if (s.type == ShapeType::Ring && dimension != 2)
     r.fail("type", "shape 'ring' is 2D only (use 'sphere' or 'box' in 1D and 3D" + dims);
+  if ((s.type == ShapeType::Cone || s.type == ShapeType::Ogive) && dimension == 1)
+    r.fail("type", "shape '" + type + "' needs 2D, rz or 3D (in 1D a 'box'" + dims);
+  if (s.type == ShapeType::Polygon && dimension != 2)
+    r.fail("type", "shape 'polygon' is 2D and rz only (in 3D a 'union' or 'difference' of "
+                   "shapes, or 'particles' from a mesher" +
+                       dims);
   deck_detail::allowTypedKeys(r, "body.shape", type, "shape");
   Read read(r, dimension);
   switch (s.type) {
@@ -263,6 +445,49 @@ void readShape(const deck_detail::TableReader& r, ShapeConfig& s, std::size_t di
     kRing(read, s);
     checkAxisymmetric(r, rz, s.center[0], s.outer_radius);
     break;
+  case ShapeType::Cone:
+  case ShapeType::Ogive:
+    if (s.type == ShapeType::Cone)
+      kCone(read, s);
+    else
+      kOgive(read, s);
+    if (deck_detail::norm(s.axis) == 0.0)
+      r.fail("axis", r.quoted("axis") + " must not be the zero vector");
+    checkOnAxis(r, rz, s);
+    break;
+  case ShapeType::Polygon:
+    readPolygon(r, s, dimension, rz);
+    break;
+  case ShapeType::Union:
+    readParts(r, "shapes", 2, s, dimension, rz);
+    break;
+  case ShapeType::Difference: {
+    const toml::table* from = r.subtable("from");
+    if (!from) r.missing("from");
+    readShape(partReader(r, *from, "from", std::nullopt), s.parts.emplace_back(), dimension, rz);
+    if (s.parts.back().type == ShapeType::Particles)
+      r.fail("from", r.quoted("from") + " is a 'particles' shape: a file's particles are a body "
+                                        "of their own (cut lattice shapes only)");
+    readParts(r, "minus", 1, s, dimension, rz);
+    break;
+  }
+  case ShapeType::Particles: {
+    kParticles(read, s);
+    // Relative to the deck, as a jet's file; the deck as run names it absolutely, so that it is
+    // found from wherever that deck is read again.
+    namespace fs = std::filesystem;
+    fs::path path(s.file);
+    if (path.is_relative()) path = fs::path(r.deckPath()).parent_path() / path;
+    std::error_code ec;
+    path = fs::absolute(path, ec).lexically_normal();
+    if (ec || !fs::exists(path, ec))
+      r.fail("file", r.quoted("file") + " names no file: " + path.string());
+    s.cloud = std::make_shared<const ParticleCloud>(readParticleFile(path.string(), dimension, rz));
+    std::ostringstream text;
+    text << toml::value<std::string>(path.string());
+    r.noteResolved("file", text.str());
+    break;
+  }
   }
 }
 

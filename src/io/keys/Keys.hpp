@@ -102,6 +102,12 @@ inline Bound withinOpenClosed(double lo, std::string_view hiKey, const double& h
 inline Bound above(std::string_view key, const double& value) {
   return {Bound::Kind::Above, 0.0, 0.0, key, &value};
 }
+inline Bound atLeast(std::string_view key, const double& value) {
+  return {Bound::Kind::AtLeast, 0.0, 0.0, key, &value};
+}
+inline Bound withinClosedOpen(double lo, std::string_view hiKey, const double& hi) {
+  return {Bound::Kind::ClosedOpen, lo, 0.0, {}, nullptr, hiKey, &hi};
+}
 // (lo, hi), each end another key's value or (lo) a number.
 inline Bound between(std::string_view loKey, const double& lo, std::string_view hiKey,
                      const double& hi) {
@@ -139,6 +145,8 @@ inline Bound specificHeat(Bound b) {
 // A bound by another key's value reads it when checked: never from a temporary.
 Bound withinOpenClosed(double, std::string_view, const double&&) = delete;
 Bound above(std::string_view, const double&&) = delete;
+Bound atLeast(std::string_view, const double&&) = delete;
+Bound withinClosedOpen(double, std::string_view, const double&&) = delete;
 Bound between(std::string_view, const double&&, std::string_view, const double&) = delete;
 Bound between(std::string_view, const double&, std::string_view, const double&&) = delete;
 Bound within(double, std::string_view, const double&&) = delete;

@@ -58,7 +58,8 @@ template <class K> void keysOf(K& k, SolverConfig& s) {
            "rho_squared: Lam et al. (2001), Eqs. 20-21; rho_product: for unequal densities.");
   k.table("artificial_stress", "on with a strength model, else off", "",
           "Monaghan's artificial stress against the tensile instability (Gray et al. 2001).");
-  k.choice("velocity_gradient", s.velocity_gradient, kVelocityGradientNames, keep,
+  k.choice("velocity_gradient", s.velocity_gradient, kVelocityGradientNames,
+           Depends{"\"corrected\" for a material with strength and grady_kipp flaws, else \"sph\""},
            "corrected: a kernel gradient exact for linear fields (Randles & Libersky 1996).");
   // "auto" by default: bodies that collide part again (tools/stress, decks/README.md).
   k.choice("contact", s.contact, kContactNames, Contact::Auto,
@@ -167,6 +168,7 @@ void readSolver(const deck_detail::TableReader& r, SolverConfig& s) {
     readSubtable(r, "mpm", "solver.mpm", s.mpm, kKeys);
     readSubtable(mp, "viscosity", "solver.mpm.viscosity", s.mpm, kViscosityKeys);
   }
+  s.velocityGradientGiven = r.has("velocity_gradient");
   auto& av = s.artificial_viscosity;
   if (readSubtable(r, "artificial_viscosity", "solver.artificial_viscosity", av, kKeys))
     av.reconstructGiven = r.subtable("artificial_viscosity")->contains("reconstruction");

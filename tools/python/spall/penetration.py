@@ -134,23 +134,46 @@ def tate_strengths(rod_material, target_material):
     return Yp, Rt, how
 
 
-def extent_along(shape, direction):
-    """A shape's length along a unit direction (box: its projection; cylinder: its length if its
-    axis is along the direction; sphere: its diameter)."""
+def _interval_along(shape, n):
+    """The span [lo, hi] of a shape's points projected on the unit direction n."""
     t = shape["type"]
     if t == "box":
         lo, hi = np.array(shape["min"], float), np.array(shape["max"], float)
-        return float(np.abs(hi - lo) @ np.abs(direction))
-    if t == "cylinder":
-        return float(shape["length"])
+        a, b = lo * n, hi * n
+        return float(np.minimum(a, b).sum()), float(np.maximum(a, b).sum())
     if t == "sphere":
-        return 2.0 * float(shape["radius"])
+        c = float(np.array(shape["center"], float) @ n)
+        return c - float(shape["radius"]), c + float(shape["radius"])
+    if t in ("cylinder", "cone", "ogive"):
+        axis = np.array(shape["axis"], float)
+        axis /= np.linalg.norm(axis)
+        base = float(np.array(shape["base"], float) @ n)
+        top = base + float(shape["length"]) * float(axis @ n)
+        # Across the axis a section reaches radius |n - (n.a) a| further either way.
+        reach = float(shape["radius"]) * float(np.linalg.norm(n - (n @ axis) * axis))
+        return min(base, top) - reach, max(base, top) + reach
+    if t == "polygon":
+        d = np.array(shape["points"], float) @ n
+        return float(d.min()), float(d.max())
+    if t == "union":
+        spans = [_interval_along(part, n) for part in shape["shapes"]]
+        return min(a for a, _ in spans), max(b for _, b in spans)
+    if t == "difference":
+        return _interval_along(shape["from"], n)
     raise ValueError(f"a penetrator of shape '{t}' has no length along the direction")
+
+
+def extent_along(shape, direction):
+    """A shape's length along a unit direction: the span of its points projected on it (a rod
+    with a nose: shank and nose together)."""
+    lo, hi = _interval_along(shape, np.asarray(direction, float))
+    return hi - lo
 
 
 def diameter_across(shape, direction, rz):
     """A rod's diameter across the direction: rz box 2 r_max (about the axis), plane box its
-    width, cylinder and sphere 2 radius."""
+    width, cylinder, sphere, cone and ogive 2 radius, an rz polygon 2 r_max; a union or
+    difference its first part's (the shank a nose is joined to)."""
     t = shape["type"]
     if t == "box":
         lo, hi = np.array(shape["min"], float), np.array(shape["max"], float)
@@ -158,8 +181,14 @@ def diameter_across(shape, direction, rz):
         if rz:
             return 2.0 * float(max(abs(hi[0]), abs(lo[0])))
         return float(across.max())
-    if t in ("cylinder", "sphere"):
+    if t in ("cylinder", "sphere", "cone", "ogive"):
         return 2.0 * float(shape["radius"])
+    if t == "polygon" and rz:
+        return 2.0 * max(float(p[0]) for p in shape["points"])
+    if t == "union":
+        return diameter_across(shape["shapes"][0], direction, rz)
+    if t == "difference":
+        return diameter_across(shape["from"], direction, rz)
     return None
 
 
