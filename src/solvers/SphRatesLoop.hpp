@@ -160,8 +160,10 @@ private:
 
   // Monaghan & Gingold (1983) viscosity (Lam et al. 2001, Eqs. 22-24) of an approaching pair,
   // from the approach reconstructed to the pair's midpoint where asked (Frontiere, Raskin &
-  // Owen 2017) and scaled by the pair's mean Balsara factor (exactly 1 without the switch). A
-  // rigid wall's image exerts none (Boundaries::holdAcceleration holds the wall).
+  // Owen 2017) and scaled by the pair's mean Balsara factor (exactly 1 without the switch),
+  // which a pair closer than the mean spacing takes back as the reconstruction does
+  // (pair::balsaraPair). A rigid wall's image exerts none (Boundaries::holdAcceleration holds
+  // the wall).
   [[gnu::always_inline]] void viscosity(Row& r, const ReconstructionRow& recon, Pair& p) const {
     const std::uint32_t j = p.j;
     double vr = j < firstWallImage_ ? p.vij.dot(p.xij) : 0.0;
@@ -176,7 +178,7 @@ private:
       double mu;
       p.Pij = pair::viscosity(vr, p.r2, hbar, 0.5 * (r.ci + cs_[j]), 0.5 * (r.rhoi + rho_[j]),
                               alpha_, beta_, mu);
-      p.Pij *= 0.5 * (r.fi + scratch_[j].balsara);
+      if (balsara_) p.Pij *= pair::balsaraPair(r.fi, scratch_[j].balsara, p.qMean, qc_);
       r.mui = std::max(r.mui, -mu);
     }
   }
@@ -534,6 +536,7 @@ private:
   bool reconstruct_ = false, frictionless_ = false, surfaces_ = false, damagedPairs_ = false;
   int nAS_ = 1;
   double invWdp_ = 1.0, alpha_ = 0.0, beta_ = 0.0, sigma_ = 0.0;
+  double qc_ = 0.0; // 1/n_h: a pair's mean spacing in units of h (the close-pair guard)
 };
 
 template <int Dim, class K, bool Aniso>

@@ -14,6 +14,7 @@ void Sph<Dim, K, Aniso>::RatesLoop<Mode>::prepareRows() {
   const ParticleFields<Dim>& f = o.f_;
   const SolverConfig& cfg = o.cfg_;
   balsara_ = cfg.artificial_viscosity.balsara;
+  qc_ = 1.0 / cfg.nodes_per_h;
   product_ = cfg.stress_form == StressForm::RhoProduct;
   rz_ = cfg.geometry == Geometry::RZ;
   artificial_ = cfg.artificial_stress.enabled;

@@ -36,6 +36,16 @@ With `long`: the shipped resolutions (10 across the radius; ~17 min and ~10 min 
   (71.6k particles, 1 h 43 min on 2 ranks) gives +2.7%, -2.1%, 2.3%: the length grows toward the
   rz bar's +3.3-3.7%, so the issue's 2% on the length is not met there with either model.
 
+A user's variation (issue 67): the 42CrMo4 bar with `kernel = "wendland_c2"`, Balsara's switch,
+8 particles across the radius (0.4 mm) and a run to 100 us. The face by the particles within two
+spacings of the wall: the 99th percentile of their radii within 5% of the reference face, the
+outermost within 8% (the issue's bounds). Balsara's switch takes the viscosity out of isochoric
+flow, close pairs included, and the mushroom's rim spread: in 3D, against the deck's 11.19 mm,
+the outermost +6.4% and the 99th percentile +5.7% before a pair closer than the mean spacing
+took its viscosity back (solvers/SphPairTerms.hpp, balsaraPair); with it +5.4% and +4.4% (long:
+16.8k particles, ~14 min on 2 ranks). Fast: the same bar in rz (the deck's cylinder as r, z), 8
+rings, ~20 s: +2.0% and +1.2% (+2.5% and +1.8% before).
+
 usage: test_taylor_bars.py SPALL SOURCE_DIR [long]
 """
 import importlib.machinery
@@ -44,6 +54,8 @@ import subprocess
 import sys
 import tempfile
 from pathlib import Path
+
+import numpy as np
 
 SPALL, SRC = sys.argv[1], Path(sys.argv[2])
 LONG = len(sys.argv) > 3 and sys.argv[3] == "long"
@@ -60,8 +72,57 @@ CASES = [("taylor_bar_steel_3d.toml", 1.0, 0.02, 0.04, None),
          ("taylor_bar_za_rz.toml", 1.0, 0.04, 0.04, 0.04)] if LONG else \
         [("taylor_bar_4340_3d.toml", 0.5, 0.03, 0.04, 0.03)]
 
+# A user's variation of the 42CrMo4 deck (docstring): 3D in long, rz in the fast suite.
+VARIATION = ["solver.kernel=wendland_c2", "solver.artificial_viscosity.balsara=true",
+             "body.bar.spacing=4.0e-4", "run.end_time=1.0e-4"]
+FACE_P99, FACE_MAX = 0.05, 0.08  # the issue's bounds: the rim, and its outermost particle
+
+
+def rz_deck(tmp):
+    """decks/taylor_bar_steel_3d.toml as an rz bar: the cylinder as [0, R] x [0, L]."""
+    s = (SRC / "decks" / "taylor_bar_steel_3d.toml").read_text()
+    for a, b in (("dimension = 3", 'dimension = 2\ngeometry = "rz"'),
+                 ('shape = { type = "cylinder", base = [0.0, 0.0, 0.0], axis = [0.0, 0.0, 1.0], '
+                  'radius = 3.2e-3, length = 32.4e-3 }',
+                  'shape = { type = "box", min = [0.0, 0.0], max = [3.2e-3, 32.4e-3] }'),
+                 ("velocity = [0.0, 0.0, -287.0]", "velocity = [0.0, -287.0]"),
+                 ("point = [0.0, 0.0, 0.0]", "point = [0.0, 0.0]"),
+                 ("normal = [0.0, 0.0, 1.0]", "normal = [0.0, 1.0]")):
+        assert a in s, a
+        s = s.replace(a, b)
+    path = Path(tmp) / "taylor_bar_steel_rz.toml"
+    path.write_text(s)
+    return path
+
+
+def face_radii(out):
+    """Distances from the axis of the particles within two spacings of the wall at the end, and
+    the reference face diameter (tools/taylor's reading of the deck)."""
+    bar = taylor.setup(Path(out) / "deck.toml")
+    _, z, r, _ = taylor.heights_and_radii(taylor.snapshot_files(out)[-1], bar)
+    return r[z < 2.0 * bar["spacing"]], bar["reference"][1]
+
+
 failures = []
 with tempfile.TemporaryDirectory() as tmp:
+    variation = (SRC / "decks" / "taylor_bar_steel_3d.toml") if LONG else rz_deck(tmp)
+    out = Path(tmp) / "variation"
+    cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", "2", SPALL, "run",
+           str(variation), "--output", str(out), "--quiet"]
+    p = subprocess.run(cmd + [a for k in VARIATION for a in ("--set", k)], capture_output=True,
+                       text=True, stdin=subprocess.DEVNULL)
+    if p.returncode != 0:
+        failures.append(f"variation {variation.name}: exit {p.returncode}\n{p.stderr[-2000:]}")
+    else:
+        r, D0 = face_radii(out)
+        d99, dmax = 2.0 * np.percentile(r, 99) / D0 - 1.0, 2.0 * r.max() / D0 - 1.0
+        print(f"variation {variation.name} ({', '.join(VARIATION)}): face by the 99th percentile "
+              f"{d99 * 100:+.2f}% (within {FACE_P99 * 100:g}%), by the outermost particle "
+              f"{dmax * 100:+.2f}% (within {FACE_MAX * 100:g}%) of {D0 * 1e3:.2f} mm")
+        if abs(d99) > FACE_P99 or abs(dmax) > FACE_MAX:
+            failures.append(f"variation {variation.name}: face {d99 * 100:+.2f}% (99th percentile), "
+                            f"{dmax * 100:+.2f}% (outermost)")
+
     for deck, resolution, tol_length, tol_diameter, tol_profile in CASES:
         out = Path(tmp) / deck
         cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", "2", SPALL, "run",
