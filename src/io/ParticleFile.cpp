@@ -25,15 +25,34 @@ std::string trim(std::string_view s) {
   return std::string(s);
 }
 
-std::vector<std::string> cells(const std::string& line) {
-  std::vector<std::string> out;
+// A CSV row's cells, trimmed, each with the 1-based column where its text starts.
+struct Cell {
+  std::string text;
+  int column;
+};
+
+std::vector<Cell> cells(const std::string& line) {
+  std::vector<Cell> out;
   std::size_t start = 0;
   for (;;) {
     const std::size_t comma = line.find(',', start);
-    out.push_back(trim(std::string_view(line).substr(start, comma - start)));
+    const std::string_view raw = std::string_view(line).substr(start, comma - start);
+    const std::size_t lead = std::min(raw.find_first_not_of(" \t"), raw.size());
+    out.push_back({trim(raw), static_cast<int>(start + lead) + 1});
     if (comma == std::string::npos) return out;
     start = comma + 1;
   }
+}
+
+// Where a CSV row and its position's and volume's cells are (1-based line and columns).
+struct RowPlace {
+  int line, position, volume;
+};
+
+std::string header(const std::vector<Cell>& row) {
+  std::string out;
+  for (const Cell& c : row) out += (out.empty() ? "" : ", ") + c.text;
+  return out;
 }
 
 // The columns a dimension needs, by name; rz also takes r, z for x, y.
@@ -47,7 +66,7 @@ std::vector<std::vector<std::string>> wantedColumns(std::size_t dimension, bool 
 }
 
 ParticleCloud readCsv(const std::string& path, std::size_t dimension, bool rz,
-                      std::vector<int>& lines) {
+                      std::vector<RowPlace>& rows) {
   std::ifstream in(path);
   if (!in) throw DeckError({path, 0, 0}, "cannot open the particle file");
   ParticleCloud c;
@@ -60,13 +79,13 @@ ParticleCloud readCsv(const std::string& path, std::size_t dimension, bool rz,
     ++line;
     const std::string t = trim(text);
     if (t.empty() || t.front() == '#') continue;
-    const auto row = cells(t);
+    const auto row = cells(text);
     if (column.empty()) {
       const auto wanted = wantedColumns(dimension, rz);
       for (const auto& names : wanted) {
         std::size_t found = row.size();
         for (std::size_t k = 0; k < row.size() && found == row.size(); ++k)
-          if (std::find(names.begin(), names.end(), row[k]) != names.end()) found = k;
+          if (std::find(names.begin(), names.end(), row[k].text) != names.end()) found = k;
         if (found == row.size())
           throw DeckError({path, line, 1},
                           fmt::format("the header names no '{}' column (it needs {}; got {})",
@@ -74,28 +93,27 @@ ParticleCloud readCsv(const std::string& path, std::size_t dimension, bool rz,
                                       dimension == 3   ? "x, y, z, volume"
                                       : dimension == 2 ? (rz ? "r, z, volume" : "x, y, volume")
                                                        : "x, volume",
-                                      fmt::join(row, ", ")));
+                                      header(row)));
         column.push_back(found);
       }
       width = row.size();
       continue;
     }
     if (row.size() != width)
-      throw DeckError({path, line, 1}, fmt::format("{} values where the header names {} columns",
-                                                   row.size(), width));
+      throw DeckError(
+          {path, line, row.front().column},
+          fmt::format("{} values where the header names {} columns", row.size(), width));
     double v[4];
     for (std::size_t k = 0; k < column.size(); ++k) {
-      const std::string& s = row[column[k]];
+      const std::string& s = row[column[k]].text;
       const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v[k]);
-      if (ec != std::errc() || end != s.data() + s.size() || !std::isfinite(v[k])) {
-        int col = 1;
-        for (std::size_t m = 0; m < column[k]; ++m) col += static_cast<int>(row[m].size()) + 1;
-        throw DeckError({path, line, col}, fmt::format("'{}' is not a finite number", s));
-      }
+      if (ec != std::errc() || end != s.data() + s.size() || !std::isfinite(v[k]))
+        throw DeckError({path, line, row[column[k]].column},
+                        fmt::format("'{}' is not a finite number", s));
     }
     for (std::size_t d = 0; d < dimension; ++d) c.position.push_back(v[d]);
     c.volume.push_back(v[dimension]);
-    lines.push_back(line);
+    rows.push_back({line, row[column[0]].column, row[column[dimension]].column});
   }
   if (column.empty()) throw DeckError({path, line, 0}, "the particle file holds no header");
   return c;
@@ -153,10 +171,12 @@ ParticleCloud readParticleFile(const std::string& path, std::size_t dimension, b
                                       ? "the particle file is not a regular file"
                                       : "the particle file does not exist");
   const bool hdf5 = path.ends_with(".h5") || path.ends_with(".hdf5");
-  std::vector<int> lines; // where each CSV row is, for the messages below
-  ParticleCloud c = hdf5 ? readHdf5(path, dimension) : readCsv(path, dimension, rz, lines);
-  const auto at = [&](std::size_t i) -> SourceLocation {
-    return hdf5 ? SourceLocation{path, 0, 0} : SourceLocation{path, lines[i], 1};
+  std::vector<RowPlace> rows; // where each CSV row is, for the messages below
+  ParticleCloud c = hdf5 ? readHdf5(path, dimension) : readCsv(path, dimension, rz, rows);
+  // A CSV particle's position (its first coordinate) or volume, for the messages below.
+  const auto at = [&](std::size_t i, bool volume = false) -> SourceLocation {
+    if (hdf5) return {path, 0, 0};
+    return {path, rows[i].line, volume ? rows[i].volume : rows[i].position};
   };
   const auto name = [&](std::size_t i) {
     return hdf5 ? fmt::format("particle {} (row {} of the datasets)", i, i)
@@ -171,7 +191,8 @@ ParticleCloud readParticleFile(const std::string& path, std::size_t dimension, b
   for (std::size_t i = 0; i < n; ++i) {
     const double V = c.volume[i];
     if (!(V > 0.0) || !std::isfinite(V))
-      throw DeckError(at(i), fmt::format("{} has volume {}: volumes must be > 0", name(i), V));
+      throw DeckError(at(i, true),
+                      fmt::format("{} has volume {}: volumes must be > 0", name(i), V));
     for (std::size_t d = 0; d < D; ++d) {
       const double x = c.position[i * D + d];
       if (!std::isfinite(x))

@@ -213,6 +213,9 @@ def bad_input(tmp):
     refused(tmp, "bad_row", head + 'shape = { type = "particles", file = "bad.csv" }\n' + tail,
             {"bad.csv": "r,z,volume\n1e-3,0.0,1e-8\n2e-3,oops,1e-8\n"}, f"{d}/bad.csv:3:6",
             "'oops' is not a finite number")
+    refused(tmp, "bad_volume", head + 'shape = { type = "particles", file = "bad.csv" }\n' + tail,
+            {"bad.csv": "r, z, volume\n1e-3, 0.0, -1e-8\n"}, f"{d}/bad.csv:2:12",
+            "volumes must be > 0")
     refused(tmp, "spacing_given", head + 'shape = { type = "particles", file = "good.csv" }\n'
             'spacing = 1.0e-3\n' + tail, {"good.csv": "r,z,volume\n1e-3,0.0,1e-8\n"},
             f"{d}/spacing_given.toml:12:11", "is for lattice shapes")
