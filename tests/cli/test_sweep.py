@@ -35,7 +35,7 @@ DECK = """# A strengthless tungsten rod into copper, rz, three rings across the 
 title = "sweep test"
 dimension = 2
 geometry = "rz"
-end_time = 40.0e-6
+end_time = 20.0e-6
 [solver]
 method = "sph"
 [[material]]

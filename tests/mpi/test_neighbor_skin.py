@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verification"))
-from spalltest import Checks, final_state  # noqa: E402
+from spalltest import Checks, concurrently, final_state  # noqa: E402
 
 SPALL, SRC = Path(sys.argv[1]), Path(sys.argv[2])
 ONLY = sys.argv[3] if len(sys.argv) > 3 else ""
@@ -84,17 +84,29 @@ CASES = [("sedov_3d.toml", ["run.resolution=0.5", "run.max_steps=40"], True),
          # particles inserted while running
          ("rod_into_sandstone_rz.toml", ["run.end_time=4e-6", "run.resolution=0.5"], True)]
 
+RUNS = ((1, 0.0), (1, None), (3, 0.3))
+
+
+def output(tmp, deck, ranks, skin):
+    return tmp / f"{Path(deck).stem}_{ranks}_{skin}"
+
+
 with tempfile.TemporaryDirectory() as tmp:
     tmp = Path(tmp)
-    for deck, sets, saves in CASES:
-        if ONLY not in deck:
-            continue
+    cases = [c for c in CASES if ONLY in c[0]]
+    # Every run first, the single-rank ones side by side (one core each), then the comparisons.
+    started = time.time()
+    summaries = iter(concurrently(
+        [(ranks, lambda d=deck, r=ranks, k=skin, s=sets: run(SRC / "decks" / d, r, k,
+                                                            output(tmp, d, r, k), s))
+         for deck, sets, _ in cases for ranks, skin in RUNS]))
+    print(f"     ({len(cases) * len(RUNS)} runs in {time.time() - started:.1f} s)")
+    for deck, sets, saves in cases:
         label = Path(deck).name + (f" ({', '.join(sets)})" if sets else "")
-        started = time.time()
         base = None
-        for ranks, skin in ((1, 0.0), (1, None), (3, 0.3)):
-            out = tmp / f"{Path(deck).stem}_{ranks}_{skin}"
-            summary = run(SRC / "decks" / deck, ranks, skin, out, sets)
+        results = [next(summaries) for _ in RUNS]
+        for (ranks, skin), summary in zip(RUNS, results):
+            out = output(tmp, deck, ranks, skin)
             if summary is None:
                 break
             state, t = final_state(out)
@@ -121,6 +133,5 @@ with tempfile.TemporaryDirectory() as tmp:
                 np.array_equal(hist[k], base[2][k], equal_nan=True) for k in hist)
             check(same, f"{label}: {name}, history.csv identical (but ghosts, migrations, "
                         "imbalance, wall clock)")
-        print(f"     ({time.time() - started:.1f} s)")
 
 checks.finish()

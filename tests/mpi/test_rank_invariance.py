@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verification"))
-from spalltest import Checks, final_state  # noqa: E402
+from spalltest import Checks, concurrently, final_state  # noqa: E402
 
 SPALL, SRC = Path(sys.argv[1]), Path(sys.argv[2])
 LONG = len(sys.argv) > 3 and sys.argv[3] == "long"
@@ -32,7 +32,13 @@ checks = Checks()
 check, failures = checks.check, checks.failures
 
 
+# Runs done ahead of the comparisons, side by side: output directory -> summary.
+DONE = {}
+
+
 def run(deck, ranks, out, *sets):
+    if str(out) in DONE:
+        return DONE.pop(str(out))
     cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(ranks), str(SPALL), "run",
            str(deck), "--output", str(out), "--overwrite", "--quiet"]
     for s in sets:
@@ -176,20 +182,33 @@ with tempfile.TemporaryDirectory() as tmp:
     CASES += [(Path(tmp / "noh_2d_probed.toml"), ["run.end_time=0.05", "run.resolution=0.5"]),
               (Path(tmp / "taylor_bar_3d_probed.toml"),
                ["run.resolution=0.4", "run.max_steps=40"])]
-    for deck, sets in CASES:
-        if not LONG and (deck, tuple(sets)) in IN_SKIN_TEST:
-            continue
+    def case_runs(deck, sets):
+        """(ranks, deck's path, output) of each run of a case."""
+        name = deck.name if isinstance(deck, Path) else deck
+        mpm = "_mpm_" in name or "solver.method=mpm" in sets
+        path = deck if isinstance(deck, Path) else SRC / "decks" / deck
+        if not path.exists():
+            path = SRC / "tests" / "mpi" / "decks" / deck
+        counts = ((1, 2, 3, 5) if mpm else (1, 2, 3, 4)) if LONG else (1, 3)
+        return [(ranks, path, tmp / f"{name}_{len(sets)}_{'_'.join(sets)[-20:]}_{ranks}".replace(
+            "/", "_")) for ranks in counts]
+
+    cases = [(d, s) for d, s in CASES if LONG or (d, tuple(s)) not in IN_SKIN_TEST]
+    # Every run ahead of the comparisons, the single-rank ones first and two at a time (one core
+    # each), then the rest one by one.
+    jobs = sorted(((r, p, o, s) for d, s in cases for r, p, o in case_runs(d, s)),
+                  key=lambda j: j[0] > 1)
+    assert len({str(j[2]) for j in jobs}) == len(jobs), "two runs share an output directory"
+    for (ranks, path, out, sets), summary in zip(jobs, concurrently(
+            [(r, lambda r=r, p=p, o=o, s=s: run(p, r, o, *s)) for r, p, o, s in jobs])):
+        DONE[str(out)] = summary
+    for deck, sets in cases:
         base, base_time, base_out = None, None, None
         history = {}
         options = [s.split(".", 1)[1] for s in sets if s.startswith("solver.")]
         name = deck.name if isinstance(deck, Path) else deck
         label = name + (f" ({', '.join(options)})" if options else "")
-        mpm = "_mpm_" in name or "solver.method=mpm" in sets
-        for ranks in ((1, 2, 3, 5) if mpm else (1, 2, 3, 4)) if LONG else (1, 3):
-            out = tmp / f"{name}_{len(sets)}_{'_'.join(sets)[-20:]}_{ranks}".replace("/", "_")
-            path = deck if isinstance(deck, Path) else SRC / "decks" / deck
-            if not path.exists():
-                path = SRC / "tests" / "mpi" / "decks" / deck
+        for ranks, path, out in case_runs(deck, sets):
             summary = run(path, ranks, out, *sets)
             if summary is None:
                 continue

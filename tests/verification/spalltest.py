@@ -8,19 +8,67 @@ import csv
 import os
 import subprocess
 import sys
+import threading
 
 import h5py
 import numpy as np
 
 
-def mpirun(ranks):
+# The cores of the job this thread runs (`concurrently`), where it runs one.
+_job = threading.local()
+
+
+def test_cores():
+    """The cores ctest gave the test (SPALL_TEST_CORES, its PROCESSORS), or inside a job of
+    `concurrently` the job's."""
+    return getattr(_job, "cores", None) or max(1, int(os.environ.get("SPALL_TEST_CORES", "1")))
+
+
+def mpirun(ranks, threads=None):
     """The launcher of a run on `ranks` ranks and its environment: each rank runs the test's share
-    of the cores ctest gave it (SPALL_TEST_CORES, its PROCESSORS) as threads. A run's particles
-    are the same bit for bit on any thread count (tests/mpi/test_thread_invariance.py), so a
-    single-rank run only finishes sooner."""
-    threads = max(1, int(os.environ.get("SPALL_TEST_CORES", "1")) // ranks)
+    of its cores as threads (or `threads`). A run's particles are the same bit for bit on any
+    thread count (tests/mpi/test_thread_invariance.py), so a single-rank run only finishes
+    sooner."""
+    threads = threads or max(1, test_cores() // ranks)
     return (["mpirun", "--allow-run-as-root", "--oversubscribe", "--bind-to", "none", "-x", "OMP_NUM_THREADS",
              "-np", str(ranks)], dict(os.environ, OMP_NUM_THREADS=str(threads)))
+
+
+def concurrently(jobs, cores=None):
+    """Runs independent jobs, each (cores it keeps busy, function), side by side on the test's
+    cores, and returns their results in order. A job starts when the ones before it have started
+    and its cores are free (one that needs more than there are runs alone): single-rank runs go
+    two at a time on two cores, where one after another they would leave a core idle."""
+    cores = cores or test_cores()
+    free, turn, results, raised = [cores], [0], [None] * len(jobs), []
+    ready = threading.Condition()
+
+    def work(i, need, job):
+        need = min(need, cores)
+        with ready:
+            ready.wait_for(lambda: turn[0] == i and free[0] >= need)
+            free[0] -= need
+            turn[0] += 1
+            ready.notify_all()
+        try:
+            _job.cores = need
+            results[i] = job()
+        except BaseException as e:  # raised again in the caller's thread: a crash fails the test
+            raised.append(e)
+        finally:
+            with ready:
+                free[0] += need
+                ready.notify_all()
+
+    workers = [threading.Thread(target=work, args=(i, need, job))
+               for i, (need, job) in enumerate(jobs)]
+    for w in workers:
+        w.start()
+    for w in workers:
+        w.join()
+    if raised:
+        raise raised[0]
+    return results
 
 
 class Checks:
@@ -34,10 +82,10 @@ class Checks:
             self.failures.append(message)
         return ok
 
-    def run(self, deck, out, *sets, ranks=1, restart=None):
+    def run(self, deck, out, *sets, ranks=1, restart=None, threads=None):
         """spall run DECK --output OUT --set ... on `ranks` ranks; False (and a failed check
         naming the run and its stderr) when it exits non-zero."""
-        launcher, env = mpirun(ranks)
+        launcher, env = mpirun(ranks, threads)
         cmd = launcher + [self.spall, "run", str(deck), "--output", str(out), "--quiet"]
         for s in sets:
             cmd += ["--set", s]
@@ -48,6 +96,14 @@ class Checks:
             self.check(False, f"{out.name}: exit {p.returncode}\n{p.stderr[-2000:]}")
             return False
         return True
+
+    def run_all(self, runs):
+        """Independent runs, each (deck, out, [sets], {ranks, restart}), side by side on the
+        test's cores (`concurrently`): a list of what `run` returns."""
+        def job(deck, out, sets=(), options=None):
+            options = options or {}
+            return (options.get("ranks", 1), lambda: self.run(deck, out, *sets, **options))
+        return concurrently([job(*r) for r in runs])
 
     def same_particles(self, reference, others, what):
         """Checks that each (label, OUT) of `others` ends at the time of the run in `reference`

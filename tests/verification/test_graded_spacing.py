@@ -8,8 +8,9 @@
   particles in the fine region), largest over the fine region (0.3-3.7 mm) and the run, over the
   incident pulse's right-going amplitude. A continuum reflects nothing; SPH's operator across a
   spacing gradient is not exact, and reflects in proportion to it. Asserted: under 1% at the
-  default ratio 1.05 (the issue's bound; measured 0.89% in 1D, 0.88% in 2D), and growing with the
-  ratio over 1.02, 1.05, 1.1, 1.2 in 1D (measured 0.29, 0.89, 1.43, 1.86%).
+  default ratio 1.05 (the issue's bound; measured 0.90% in 1D, 0.88% in 2D), and growing with the
+  ratio over 1.02, 1.05, 1.1, 1.2 in 1D (measured 0.31, 0.90, 1.42, 1.87%: the same to 0.001%
+  whether the uniform bar is whole or cut short where its end cannot be heard in time).
 - At rest: an rz steel block graded from its axis (250 um to 2 mm), at rest and free, and under
   100 MPa (initial_pressure and a confining pressure on its surface), over 1,000 steps: the peak
   speed below 1e-6 of its sound speed (the issue's bound; measured 0 and 7e-19).
@@ -73,13 +74,20 @@ def reflection(graded, uniform):
 
 def plane_waves(tmp):
     deck1 = DECKS / "graded_plane_wave_1d.toml"
-    flat = ["body.bar.grading.ratio=1.0", "body.bar.grading.max_spacing=1.0e-5"]
-    if not t.run(deck1, tmp / "w1_uniform", *flat):
+    # The uniform bar need only outlast the run: its end at 12 mm turns the pulse's front (at 0
+    # mm when t = 0) back into the region compared by (24 - 3.7) mm / c_L = 3.3 us > 3 us. A third
+    # of the 20 mm bar's particles.
+    flat = ["body.bar.grading.ratio=1.0", "body.bar.grading.max_spacing=1.0e-5",
+            'body.bar.shape={type="box", min=[0.0], max=[0.012]}']
+    ratios = (1.02, 1.05, 1.1, 1.2)
+    done = t.run_all([(deck1, tmp / "w1_uniform", flat)] +
+                     [(deck1, tmp / f"w1_{r}", [f"body.bar.grading.ratio={r}"]) for r in ratios])
+    if not done[0]:
         return
     measured = {}
-    for ratio in (1.02, 1.05, 1.1, 1.2):
+    for ratio, ok in zip(ratios, done[1:]):
         out = tmp / f"w1_{ratio}"
-        if t.run(deck1, out, f"body.bar.grading.ratio={ratio}"):
+        if ok:
             measured[ratio], n = reflection(out, tmp / "w1_uniform")
             print(f"     1D ratio {ratio}: reflected {100 * measured[ratio]:.3f}% ({n} particles "
                   f"compared)")
@@ -91,6 +99,8 @@ def plane_waves(tmp):
                 "1D: the reflection grows with the ratio: " +
                 ", ".join(f"{100 * x:.2f}%" for x in r))
     deck2 = DECKS / "graded_plane_wave_2d.toml"
+    # Whole: cut at 8.5 mm (heard at 3.7 mm after 2.2 us, past the run's 2 us) the 2D strip's
+    # reflection moved from 0.879% to 0.894% (the discrete operator's precursor).
     flat2 = ["body.bar.grading.ratio=1.0", "body.bar.grading.max_spacing=4.0e-5"]
     if t.run(deck2, tmp / "w2_uniform", *flat2, ranks=2) and t.run(deck2, tmp / "w2", ranks=2):
         r2, n = reflection(tmp / "w2", tmp / "w2_uniform")
@@ -132,11 +142,14 @@ pressure = [[0.0, 1.0e8]]
 
 
 def at_rest(tmp):
-    for label, extra in (("free", ""), ("under 100 MPa", CONFINED)):
-        deck = tmp / f"rest_{len(extra)}.toml"
-        deck.write_text(REST.replace("@PRESSURE@", extra))
+    cases = (("free", ""), ("under 100 MPa", CONFINED))
+    for _, extra in cases:
+        (tmp / f"rest_{len(extra)}.toml").write_text(REST.replace("@PRESSURE@", extra))
+    done = t.run_all([(tmp / f"rest_{len(extra)}.toml", tmp / f"rest_{len(extra)}")
+                      for _, extra in cases])
+    for (label, extra), ok in zip(cases, done):
         out = tmp / f"rest_{len(extra)}"
-        if not t.run(deck, out):
+        if not ok:
             continue
         s, time = final_state(out)
         peak = np.linalg.norm(s["velocity"], axis=1).max() / s["sound_speed"].min()

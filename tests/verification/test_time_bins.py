@@ -110,7 +110,7 @@ def one_bin(tmp):
     sets = ["body.bar.grading.ratio=1.0", "body.bar.grading.max_spacing=1.0e-5",
             "run.end_time=1.0e-6", "output.every=5.0e-7"]
     one, six = tmp / "bar_1", tmp / "bar_6"
-    if not (t.run(deck, one, *sets) and t.run(deck, six, *sets, "solver.time_bins=6")):
+    if not all(t.run_all([(deck, one, sets), (deck, six, sets + ["solver.time_bins=6"])])):
         return
     a, ta = final_state(one)
     b, tb = final_state(six)

@@ -163,9 +163,31 @@ def _interval_along(shape, n):
     raise ValueError(f"a penetrator of shape '{t}' has no length along the direction")
 
 
+def _intervals_along(shape, n):
+    """The spans a shape's parts cover along n, merged where they touch or overlap."""
+    if shape["type"] != "union":
+        return [_interval_along(shape, n)]
+    spans = sorted(s for part in shape["shapes"] for s in _intervals_along(part, n))
+    merged = []
+    for lo, hi in spans:
+        if merged and lo <= merged[-1][1]:
+            merged[-1][1] = max(merged[-1][1], hi)
+        else:
+            merged.append([lo, hi])
+    return [tuple(m) for m in merged]
+
+
 def extent_along(shape, direction):
-    """A shape's length along a unit direction: the span of its points projected on it (a rod
-    with a nose: shank and nose together)."""
+    """A shape's length along a unit direction: the length its points cover projected on it (a
+    rod with a nose: shank and nose together; a union with gaps along the direction, such as a
+    jet laid out as it flies by tools/jet_layout: its parts' lengths without the gaps, the
+    length of the material)."""
+    return sum(hi - lo for lo, hi in _intervals_along(shape, np.asarray(direction, float)))
+
+
+def span_along(shape, direction):
+    """The span of a shape's points projected on a unit direction, gaps included (a spaced
+    target's rear face is this far behind its front)."""
     lo, hi = _interval_along(shape, np.asarray(direction, float))
     return hi - lo
 
@@ -300,7 +322,7 @@ def analyse(outdir, window=None, yp=None, rt=None, tate_from_deck=False, bhn=Non
     V -= float(np.array(target.get("velocity", [0.0] * len(n)), float) @ n)
     tmat = materials[target["material"]]
     rho_t = float(target.get("initial_density", tmat["density"]))
-    thickness = extent_along(target["shape"], n)
+    thickness = span_along(target["shape"], n)
     out.update({"V": V, "L": L, "D": D, "L_over_D": L / D if D else None, "rho_p": rho_p,
                 "rho_t": rho_t, "target_thickness": thickness,
                 "resolution": deck.get("run", {}).get("resolution", 1.0)})

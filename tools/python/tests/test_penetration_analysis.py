@@ -20,6 +20,8 @@ runs whose answers are known by construction; no binary needed.
   numpy's weighted polyfit covariance gives them (1e-9); a run with no steady rate left out with
   its reason; two runs: a and b with no errors, said so.
 - JSON: a result with a missing figure serialises with allow_nan=False (null, never NaN).
+- L: a union's parts along the direction without their gaps (a jet as it flies), overlaps
+  counted once; a target's span with its gaps.
 
 usage: test_penetration_analysis.py SOURCE_DIR
 """
@@ -208,7 +210,30 @@ def unreadable(tmp):
           f"{p.stderr.strip()[:120]})")
 
 
+def lengths():
+    """L along the direction: a rod with a nose is shank and nose together (they overlap); a
+    union with gaps, a jet as it flies, its parts without the gaps (exact sums of box lengths,
+    1e-15); a spaced target's rear face its whole span."""
+    down = [0.0, -1.0]
+    shank = {"type": "box", "min": [0.0, 0.0], "max": [1.0e-3, 0.04]}
+    nose = {"type": "cone", "base": [0.0, 0.0], "axis": [0.0, -1.0], "radius": 1.0e-3,
+            "length": 3.0e-3}
+    rod = pen.extent_along({"type": "union", "shapes": [shank, nose]}, down)
+    check(abs(rod - 0.043) <= 1e-15, f"a rod with a nose: L = 43 mm ({rod * 1e3:.6f} mm)")
+    train = {"type": "union", "shapes": [
+        {"type": "box", "min": [0.0, -0.010], "max": [1.0e-3, -0.006]},   # the tip, 4 mm
+        {"type": "box", "min": [0.0, -0.005], "max": [1.2e-3, -0.002]},   # a 1 mm gap, 3 mm
+        {"type": "box", "min": [0.0, -0.0025], "max": [0.8e-3, 0.001]},  # 3.5, 0.5 overlapping
+        # a union inside the union: 2 mm, after a 2 mm gap
+        {"type": "union", "shapes": [{"type": "box", "min": [0.0, 0.003], "max": [0.5e-3, 0.005]}]}]}
+    L, span = pen.extent_along(train, down), pen.span_along(train, down)
+    check(abs(L - 0.012) <= 1e-15 and abs(span - 0.015) <= 1e-15,
+          f"a jet with gaps and an overlap: L = 12 mm of material ({L * 1e3:.6f}), span 15 mm "
+          f"({span * 1e3:.6f})")
+
+
 with tempfile.TemporaryDirectory() as d:
+    lengths()
     tate_closed_forms()
     synthetic(Path(d))
     fits(Path(d))
