@@ -190,6 +190,7 @@ void DeckReader::read(Deck& deck) {
   });
   dd::checkMpmScope(deck);
   dd::resolutionWarnings(deck, notes_);
+  dd::loadedBalsaraWarning(deck, notes_);
 }
 
 // Names address entries in messages and in --set paths, so they are unique and dot-free.

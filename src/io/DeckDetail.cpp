@@ -156,6 +156,25 @@ void resolutionWarnings(const Deck& deck, DeckNotes& notes) {
   }
 }
 
+void loadedBalsaraWarning(const Deck& deck, DeckNotes& notes) {
+  const auto& av = deck.solver.artificial_viscosity;
+  if (!av.balsara || deck.solver.method == SolverMethod::Mpm) return;
+  for (const auto& b : deck.boundaries) {
+    if (b.type != BoundaryType::Pressure) continue;
+    // At rest under a load, |div v| and |curl v| are both noise, the switch halves the viscosity
+    // and a disturbance grows faster than damping removes it (decks/topics/penetration.md, "The
+    // pre-stress needs the full viscosity": a confined sandstone cylinder blew up at 51-113 us).
+    notes.warnings.push_back(
+        {av.balsaraWhere,
+         fmt::format("'solver.artificial_viscosity.balsara' with the pressure boundary on body "
+                     "'{}': the switch leaves a body loaded at rest unsettled (a confined "
+                     "sandstone cylinder blew up within 113 us at 6.9-103 MPa, where the full "
+                     "viscosity settles it within 0.5%); balsara = false",
+                     b.body)});
+    return;
+  }
+}
+
 double norm(const std::vector<double>& v) {
   double s = 0.0;
   for (double x : v) s += x * x;

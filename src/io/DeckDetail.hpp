@@ -200,6 +200,8 @@ double norm(const std::vector<double>& v);
 // Plausibility of the deck's resolution (docs/reference.md, "Warnings"): fewer than 3 particles
 // across a body's thinnest extent or a penetrator's radius.
 void resolutionWarnings(const Deck& deck, DeckNotes& notes);
+// Balsara's switch on a deck that loads a body with a pressure boundary (and settles it).
+void loadedBalsaraWarning(const Deck& deck, DeckNotes& notes);
 
 // A [[boundary]] type = "pressure"'s `pressure` table (DeckPressureTable.cpp): (time s, Pa) rows,
 // times rising from >= 0.

@@ -5,7 +5,8 @@ line and column ("FILE:LINE:COLUMN: warning: ...", naming the key, the value and
 slip); `spall check` still exits 0, `--strict` exits 2, `run --strict` refuses and writes
 nothing, and a plain `run` goes on with the warning on stderr and in run.log. Every shipped deck
 passes `check --strict` (no warning), a scaled deck (run.units = "scaled") gets no unit warnings
-and the same deck as SI does.
+and the same deck as SI does. Balsara's switch on a deck that loads a body with a pressure
+boundary is warned of at the switch's value.
 
 usage: test_plausibility.py SPALL SOURCE_DIR
 """
@@ -91,6 +92,23 @@ with tempfile.TemporaryDirectory() as d:
         if p.returncode != 0:
             noisy.append(f"{deck.name}: {p.stderr.strip()[:300]}")
     check(not noisy, "every shipped deck passes check --strict" + "".join("\n  " + n for n in noisy))
+
+    # Balsara's switch on a loaded body at rest (a confined sandstone cylinder blew up with it,
+    # decks/topics/penetration.md): warned at the switch's value, refused by --strict.
+    confined = (SRC / "decks" / "sandstone_confinement_rz.toml").read_text()
+    old = 'reconstruction = "linear" }'
+    line = confined[:confined.index(old)].count("\n") + 1
+    deck = tmp / "balsara_loaded.toml"
+    deck.write_text(confined.replace(old, 'reconstruction = "linear", balsara = true }', 1))
+    p = spall("check", deck)
+    column = confined.splitlines()[line - 1].index(old) + len('reconstruction = "linear", ') + 11
+    check(p.returncode == 0 and
+          f"{deck}:{line}:{column}: warning: 'solver.artificial_viscosity.balsara' with the "
+          "pressure boundary on body 'rock'" in p.stderr,
+          f"Balsara's switch with a pressure boundary: warned at line {line}, column {column} "
+          f"({p.stderr.strip()[:160]})")
+    s = spall("check", deck, "--strict")
+    check(s.returncode == 2, "... and check --strict exits 2")
 
     # A scaled benchmark: no unit warnings; the same numbers declared SI warn.
     bar = (SRC / "decks" / "vibrating_bar_mpm_1d.toml").read_text()

@@ -46,6 +46,7 @@ struct ArtificialViscosityConfig {
   bool balsara = false;
   bool reconstruct = false;
   bool reconstructGiven = false; // the deck sets artificial_viscosity.reconstruction
+  SourceLocation balsaraWhere;   // for the warning on a loaded body at rest (io/DeckDetail.cpp)
 };
 
 // Monaghan's artificial stress against the tensile instability (Gray, Monaghan & Swift 2001):

@@ -170,8 +170,14 @@ void readSolver(const deck_detail::TableReader& r, SolverConfig& s) {
   }
   s.velocityGradientGiven = r.has("velocity_gradient");
   auto& av = s.artificial_viscosity;
-  if (readSubtable(r, "artificial_viscosity", "solver.artificial_viscosity", av, kKeys))
+  av.balsaraWhere = s.where;
+  if (readSubtable(r, "artificial_viscosity", "solver.artificial_viscosity", av, kKeys)) {
     av.reconstructGiven = r.subtable("artificial_viscosity")->contains("reconstruction");
+    av.balsaraWhere =
+        deck_detail::TableReader(*r.subtable("artificial_viscosity"),
+                                 r.context().child("artificial_viscosity"), r.deckPath(), r.notes())
+            .whereValue("balsara");
+  }
   // Only epsilon turns the stress on or off: an empty table, or one with only the exponent,
   // leaves the default (on with solids, off without: io/Deck.cpp).
   auto& as = s.artificial_stress;
