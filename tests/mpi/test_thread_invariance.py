@@ -83,7 +83,7 @@ with tempfile.TemporaryDirectory() as tmp:
     started = time.time()
     jobs = sorted(((i, r, k) for i in range(len(CASES)) for r, k in RUNS),
                   key=lambda j: j[1] * j[2] > 1)
-    ok = dict(zip(((i, r, k) for i, r, k in jobs), concurrently(
+    ok = dict(zip(jobs, concurrently(
         [(r * k, lambda i=i, r=r, k=k: run(SRC / "decks" / CASES[i][0], r, k,
                                            tmp / f"{CASES[i][0]}_{i}_{r}x{k}", CASES[i][1]))
          for i, r, k in jobs])))

@@ -24,12 +24,12 @@ def test_cores():
     return getattr(_job, "cores", None) or max(1, int(os.environ.get("SPALL_TEST_CORES", "1")))
 
 
-def mpirun(ranks, threads=None):
+def mpirun(ranks):
     """The launcher of a run on `ranks` ranks and its environment: each rank runs the test's share
-    of its cores as threads (or `threads`). A run's particles are the same bit for bit on any
+    of its cores (`test_cores`) as threads. A run's particles are the same bit for bit on any
     thread count (tests/mpi/test_thread_invariance.py), so a single-rank run only finishes
     sooner."""
-    threads = threads or max(1, test_cores() // ranks)
+    threads = max(1, test_cores() // ranks)
     return (["mpirun", "--allow-run-as-root", "--oversubscribe", "--bind-to", "none", "-x", "OMP_NUM_THREADS",
              "-np", str(ranks)], dict(os.environ, OMP_NUM_THREADS=str(threads)))
 
@@ -82,10 +82,10 @@ class Checks:
             self.failures.append(message)
         return ok
 
-    def run(self, deck, out, *sets, ranks=1, restart=None, threads=None):
+    def run(self, deck, out, *sets, ranks=1, restart=None):
         """spall run DECK --output OUT --set ... on `ranks` ranks; False (and a failed check
         naming the run and its stderr) when it exits non-zero."""
-        launcher, env = mpirun(ranks, threads)
+        launcher, env = mpirun(ranks)
         cmd = launcher + [self.spall, "run", str(deck), "--output", str(out), "--quiet"]
         for s in sets:
             cmd += ["--set", s]
