@@ -2,6 +2,7 @@
 // deck error (nothing run, nothing written).
 #include "spall/app/Element.hpp"
 #include "spall/app/History.hpp"
+#include "spall/app/Plan.hpp"
 #include "spall/app/Run.hpp"
 #include "spall/app/SystemInfo.hpp"
 #include "spall/core/Error.hpp"
@@ -55,6 +56,34 @@ CLI::App* addElementCommand(CLI::App& cli, spall::app::ElementOptions& element) 
                          "volume (m^3) a Grady-Kipp material's flaws are drawn for (default 1e-9)");
   elementCmd->add_flag("--overwrite", element.overwrite, "replace an existing CSV");
   return elementCmd;
+}
+
+// `spall plan`'s options (a deck's decomposition for virtual ranks, docs/reference.md).
+CLI::App* addPlanCommand(CLI::App& cli, spall::app::PlanOptions& plan,
+                         std::vector<std::string>& overrides) {
+  auto* planCmd = cli.add_subcommand(
+      "plan", "a deck's particles and decomposition for N virtual ranks, no physics: owned "
+              "particles, ghosts, neighbor ranks, bytes, memory, predicted efficiency");
+  planCmd->add_option("deck", plan.deckPath, "deck file (TOML)")->required();
+  planCmd->add_option("--ranks", plan.ranks, "rank counts, e.g. 64,256,1024")
+      ->required()
+      ->delimiter(',');
+  planCmd->add_option("--threads", plan.threads, "threads per rank (default 1)");
+  planCmd->add_option("--set", overrides, "override a deck value: KEY=VALUE");
+  planCmd->add_option("--cores", plan.cores,
+                      "cores the ranks share (default: one per rank, as on a cluster)");
+  planCmd->add_option("--measured", plan.measured,
+                      "a run's output directory of this deck: its rate and bytes per particle");
+  planCmd->add_option("--rate", plan.costs.rate, "particle-steps/s per core, one thread");
+  planCmd->add_option("--ghost-cost", plan.costs.ghost,
+                      "a ghost's cost a step relative to an owned particle's");
+  planCmd->add_option("--all-cores-slowdown", plan.costs.slowdown,
+                      "a core's compute time when every core works, over one core's alone");
+  planCmd->add_option("--latency", plan.costs.latency, "seconds a message (default 2e-6)");
+  planCmd->add_option("--bandwidth", plan.costs.bandwidth, "bytes/s a rank (default 5e9)");
+  planCmd->add_flag("--per-rank", plan.perRank, "the per-rank table for every rank count");
+  planCmd->add_option("--json", plan.json, "also write the plan as JSON to this file");
+  return planCmd;
 }
 
 } // namespace
@@ -118,6 +147,10 @@ int main(int argc, char** argv) {
       ->required();
   historyCmd->add_flag("--overwrite", history.overwrite, "replace an existing file");
 
+  spall::app::PlanOptions plan;
+  std::vector<std::string> planOverrides;
+  auto* planCmd = addPlanCommand(cli, plan, planOverrides);
+
   try {
     cli.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -157,6 +190,11 @@ int main(int argc, char** argv) {
     }
     if (*historyCmd) {
       if (mpi.root()) spall::app::writeHistory(history);
+      return 0;
+    }
+    if (*planCmd) {
+      const auto deck = spall::loadDeck(plan.deckPath, planOverrides);
+      spall::app::runPlan(deck, plan, mpi);
       return 0;
     }
     if (*checkCmd) {

@@ -67,6 +67,26 @@ std::vector<std::uint64_t> weightedSplitters(MPI_Comm comm, std::span<const std:
   return splitters;
 }
 
+std::vector<std::uint64_t> splittersOf(std::span<const std::uint64_t> keys,
+                                       std::span<const std::uint64_t> cost, int ranks) {
+  std::uint64_t total = 0;
+  for (auto c : cost) total += c;
+  const std::uint64_t R = static_cast<std::uint64_t>(ranks), q = total / R, rem = total % R;
+  std::vector<std::uint64_t> splitters(static_cast<std::size_t>(ranks), 0);
+  std::size_t i = 0;
+  std::uint64_t running = 0; // cost of keys[0, i)
+  for (std::uint64_t k = 1; k < R; ++k) {
+    const std::uint64_t target = k * q + (k * rem + R - 1) / R; // as weightedSplitters
+    if (target == 0) continue;
+    while (running < target) running += cost[i++];
+    // keys[i - 1] brought the running cost to the target; equal keys fall on the same side.
+    const std::uint64_t key = keys[i - 1];
+    while (i < keys.size() && keys[i] == key) running += cost[i++];
+    splitters[static_cast<std::size_t>(k)] = key + 1;
+  }
+  return splitters;
+}
+
 namespace {
 
 template <class T>

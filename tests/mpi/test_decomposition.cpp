@@ -5,6 +5,7 @@
 #include "spall/core/SymmetricEigen.hpp"
 #include "spall/parallel/Decomposition.hpp"
 #include "spall/parallel/HaloExchange.hpp"
+#include "spall/parallel/VirtualRanks.hpp"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -13,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numeric>
 #include <random>
 #include <vector>
 
@@ -105,6 +107,24 @@ TEST(Partition, WeightedCutsBalanceSyntheticCosts) {
     EXPECT_NEAR(static_cast<double>(share[static_cast<std::size_t>(r)]),
                 static_cast<double>(total) / size, 100.0)
         << "rank " << r;
+  // The one-process cut (`spall plan`'s) from every rank's keys at once: the same splitters.
+  std::vector<std::uint64_t> allKeys(keys.size() * static_cast<std::size_t>(size)),
+      allCost(allKeys.size());
+  MPI_Allgather(keys.data(), static_cast<int>(keys.size()), MPI_UINT64_T, allKeys.data(),
+                static_cast<int>(keys.size()), MPI_UINT64_T, MPI_COMM_WORLD);
+  MPI_Allgather(cost.data(), static_cast<int>(cost.size()), MPI_UINT64_T, allCost.data(),
+                static_cast<int>(cost.size()), MPI_UINT64_T, MPI_COMM_WORLD);
+  std::vector<std::size_t> order(allKeys.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(), [&](auto a, auto b) { return allKeys[a] < allKeys[b]; });
+  std::vector<std::uint64_t> sortedKeys, sortedCost;
+  for (auto i : order) sortedKeys.push_back(allKeys[i]), sortedCost.push_back(allCost[i]);
+  EXPECT_EQ(splittersOf(sortedKeys, sortedCost, size), cuts);
+  // Unit costs with runs of equal keys (particles in one cell), and more ranks than keys.
+  const std::vector<std::uint64_t> dup{3, 3, 3, 5, 5, 9, 9, 9, 9, 12}, unit(dup.size(), 1);
+  EXPECT_EQ(splittersOf(dup, unit, 4), (std::vector<std::uint64_t>{0, 4, 6, 10}));
+  EXPECT_EQ(splittersOf(std::vector<std::uint64_t>{7}, std::vector<std::uint64_t>{1}, 3),
+            (std::vector<std::uint64_t>{0, 8, 8})); // targets ceil(W/3) = ceil(2W/3) = 1
 }
 
 TEST(Decomposition, ThousandRebalancesOfARandomCloudLoseNothing) {
@@ -300,4 +320,72 @@ TEST(HaloExchange, EllipsoidBoxesCompleteAgainstBruteForce) {
   MPI_Allreduce(MPI_IN_PLACE, ghosts, 2, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
   EXPECT_GT(ghosts[0], 0u);
   EXPECT_LT(ghosts[0], ghosts[1]) << "boxes should select fewer ghosts than enclosing spheres";
+}
+
+// `spall plan`'s virtual ranks make what the run makes: a one-process cut of every particle for
+// this run's rank count owns the same particles per rank and sends each rank the same ghosts as
+// Decomposition::distributeInitial and HaloExchange::build do here, with spheres and with
+// ellipsoids' boxes, across a periodic axis.
+TEST(VirtualRanks, SameOwnedAndGhostsAsTheDecompositionAndHalo) {
+  const int rank = rankOf(), size = sizeOf();
+  for (const bool round : {true, false}) {
+    Cloud c;
+    const std::size_t n = 3000;
+    fillAll(c, n, 17);
+    std::vector<Vec<3>> xAll(c.s[c.x].begin(), c.s[c.x].begin() + n);
+    std::vector<ParticleId> idAll(c.s[c.id].begin(), c.s[c.id].begin() + n);
+    // Reaches from the id alone: spheres 0.02-0.08, or boxes with different half-widths.
+    const auto boxOf = [round](ParticleId id) {
+      const double r = 0.02 + 0.06 * static_cast<double>(id % 7) / 6.0;
+      return round ? Vec<3>(r, r, r) : Vec<3>(r, 0.5 * r, 0.25 * r);
+    };
+    std::vector<Vec<3>> reachAll(n);
+    std::vector<double> radiusAll(n);
+    for (std::size_t i = 0; i < n; ++i)
+      reachAll[i] = boxOf(idAll[i]), radiusAll[i] = reachAll[i].norm();
+    if (round)
+      for (std::size_t i = 0; i < n; ++i) radiusAll[i] = reachAll[i][0];
+    const PeriodicAxis px{0, 0.0, 1.0};
+
+    DecompositionConfig cfg;
+    Decomposition<3> dec(MPI_COMM_WORLD, cfg, c.id, c.x, c.cost);
+    dec.distributeInitial(c.s);
+    const std::size_t local = c.s.localCount();
+    std::vector<Vec<3>> box(local);
+    std::vector<double> radius(local);
+    for (std::size_t i = 0; i < local; ++i) {
+      box[i] = boxOf(c.s[c.id][i]);
+      radius[i] = round ? box[i][0] : box[i].norm();
+    }
+    HaloExchange<3> halo(MPI_COMM_WORLD, {px});
+    const std::size_t fields[] = {c.id.index, c.x.index};
+    if (round)
+      halo.build(c.s, c.x, radius, fields);
+    else
+      halo.build(c.s, c.x, radius, std::span<const Vec<3>>(box), fields);
+    std::uint64_t mine[2] = {local, halo.ghosts()};
+    std::vector<std::uint64_t> real(2 * static_cast<std::size_t>(size));
+    MPI_Allgather(mine, 2, MPI_UINT64_T, real.data(), 2, MPI_UINT64_T, MPI_COMM_WORLD);
+
+    VirtualParticles<3> vp;
+    vp.x = xAll, vp.id = idAll, vp.reach = reachAll, vp.radius = radiusAll, vp.round = round;
+    vp.periodic = {px};
+    const auto planned = VirtualRanks<3>(vp).cut(size);
+    std::uint64_t ghosts = 0;
+    for (int r = 0; r < size; ++r) {
+      const auto& q = planned[static_cast<std::size_t>(r)];
+      EXPECT_EQ(q.owned, real[2 * static_cast<std::size_t>(r)]) << "rank " << r;
+      EXPECT_EQ(q.ghosts, real[2 * static_cast<std::size_t>(r) + 1])
+          << "rank " << r << (round ? " (spheres)" : " (boxes)");
+      ghosts += q.ghosts;
+      // Every rank sends to and receives from somebody here (the periodic cloud is connected).
+      if (size > 1) {
+        EXPECT_GT(q.neighbors, 0u);
+      }
+    }
+    EXPECT_GT(ghosts, 0u);
+    if (rank == 0 && size > 1) {
+      EXPECT_GT(planned[0].sent, 0u) << "rank 0 sends ghosts to its neighbours";
+    }
+  }
 }

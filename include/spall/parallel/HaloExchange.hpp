@@ -4,15 +4,11 @@
 // how far each particle reaches (support x h for SPH, the bounding box of the H ellipsoid for
 // ASPH) and which fields to send.
 //
-// A rank describes its domain by up to kBoxes bounding boxes of consecutive owned particles
-// (compact when the owned particles are in key order), each with the largest reach inside it.
-// Particle j goes to rank r with periodic shift s when x_j + s lies within max(reach_j, reach_b)
-// of one of r's boxes b: then every pair (i, j) with |x_i - x_j| < max(reach_i, reach_j) is
-// complete on the rank that owns i, which is what the symmetric SPH sums need. With per-axis
-// reaches (ellipsoids) the same test holds axis by axis.
+// Which ranks need which particle: HaloBoxes.hpp (the rule, without MPI).
 #include "spall/core/MemoryAccounting.hpp"
 #include "spall/core/ParticleStore.hpp"
 #include "spall/core/Types.hpp"
+#include "spall/parallel/HaloBoxes.hpp"
 
 #include <mpi.h>
 
@@ -23,15 +19,8 @@
 
 namespace spall::parallel {
 
-struct PeriodicAxis {
-  int axis = 0;
-  double min = 0.0, max = 1.0;
-};
-
 template <int Dim> class HaloExchange {
 public:
-  static constexpr int kBoxes = 128;
-
   HaloExchange(MPI_Comm comm, std::vector<PeriodicAxis> periodic);
 
   // Drops all ghosts, finds which owned particles every rank needs and appends the ones this
@@ -51,32 +40,23 @@ public:
   std::size_t ghosts() const { return received_; }
   // The plan's bytes (the rows to send and their shifts); the messages are made per exchange.
   std::size_t bytes() const {
-    std::size_t b =
-        allocatedBytes(periodic_, boxes_, rankBox_, rows_, codes_, shifts_, reachScratch_);
+    std::size_t b = allocatedBytes(rows_, codes_, shifts_, reachScratch_) + targets_.bytes();
     for (const auto& r : rows_) b += allocatedBytes(r);
     for (const auto& c : codes_) b += allocatedBytes(c);
     return b;
   }
 
 private:
-  struct Box {
-    Vec<Dim> lo, hi;
-    Vec<Dim> reach = Vec<Dim>::Zero(); // largest half-width of its particles, per axis
-    double radius = 0.0;               // largest radius of its particles
-  };
   void buildWith(ParticleStore& s, Field<Vec<Dim>> x, std::span<const double> radius,
                  std::span<const std::size_t> fields);
   void describeDomains(std::span<const Vec<Dim>> x, std::span<const Vec<Dim>> reach,
-                       std::span<const double> radius);
+                       std::span<const double> radius, bool round);
   void plan(std::span<const Vec<Dim>> x, std::span<const Vec<Dim>> reach,
             std::span<const double> radius);
-  Vec<Dim> shiftOf(std::uint8_t code) const;
 
   MPI_Comm comm_;
   int rank_ = 0, size_ = 1;
-  std::vector<PeriodicAxis> periodic_;
-  std::vector<Box> boxes_;   // kBoxes per rank, all ranks; empty boxes have lo > hi
-  std::vector<Box> rankBox_; // union per rank
+  HaloTargets<Dim> targets_;                     // every rank's boxes (rebuilt with each build)
   std::vector<std::vector<std::uint32_t>> rows_; // owned rows to send, per rank
   std::vector<std::vector<std::uint8_t>> codes_; // periodic shift code of each, per rank
   std::size_t first_ = 0, received_ = 0;

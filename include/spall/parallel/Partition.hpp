@@ -38,6 +38,12 @@ private:
 std::vector<std::uint64_t> weightedSplitters(MPI_Comm comm, std::span<const std::uint64_t> keys,
                                              std::span<const std::uint64_t> cost);
 
+// The same cuts for `ranks` ranks from every key at once (one process; `spall plan`'s virtual
+// ranks): splitter k is the smallest s with cost(keys < s) >= ceil(k W / R), which is one past the
+// key at which the running cost first reaches that target.
+std::vector<std::uint64_t> splittersOf(std::span<const std::uint64_t> keys,
+                                       std::span<const std::uint64_t> cost, int ranks);
+
 // The graph of SFC cells handed to METIS_PartGraphKway: vertices are the occupied cells (key >>
 // shift), weighted by cost; edges carry the number of interacting particle pairs between cells.
 struct CellGraph {
