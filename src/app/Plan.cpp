@@ -118,50 +118,47 @@ template <int Dim> Schema schemaOf(const Deck& deck) {
   return out;
 }
 
-struct RankModel {
-  parallel::VirtualRank r;
-  double seconds = 0.0, bytesSent = 0.0, memory = 0.0;
+// The model's costs, resolved from the options, a measured run and the defaults.
+struct Costs {
+  double rate = 0.0, c = 0.0, gamma = 0.0, slowdown = 1.0, eT = 1.0, bytesOwned = 0.0;
+  std::string rateFrom;
+  bool measuredBytes = false;
 };
 
-struct CountPlan {
-  int ranks = 0;
-  std::vector<RankModel> per;
-  double step = 0.0, efficiency = 1.0;
-  std::uint64_t ghosts = 0;
-  double cutSeconds = 0.0;
-};
-
-std::string human(double bytes) {
-  if (bytes >= 1e9) return fmt::format("{:.2f} GB", bytes / 1e9);
-  if (bytes >= 1e6) return fmt::format("{:.1f} MB", bytes / 1e6);
-  if (bytes >= 1e3) return fmt::format("{:.1f} kB", bytes / 1e3);
-  return fmt::format("{:.0f} B", bytes);
+Costs resolveCosts(const PlanOptions& o, const Schema& schema, bool asph, int dim,
+                   double nodesPerH) {
+  const Measured measured = readMeasured(o.measured, dim);
+  const DefaultCosts defaults = defaultCosts(asph, dim, schema.solid);
+  Costs k;
+  k.rate = o.costs.rate > 0.0 ? o.costs.rate : measured.rate > 0.0 ? measured.rate : defaults.rate;
+  k.rateFrom = o.costs.rate > 0.0 ? "--rate"
+               : measured.rate > 0.0
+                   ? measured.source
+                   : fmt::format("the development machine's, {} {}D {}", asph ? "asph" : "sph", dim,
+                                 schema.solid ? "solid" : "hydro");
+  k.gamma = o.costs.ghost > 0.0 ? o.costs.ghost : defaults.ghost;
+  k.slowdown = o.costs.slowdown > 0.0 ? o.costs.slowdown : defaults.slowdown;
+  k.eT = kThreadEfficiency;
+  k.c = 1.0 / (k.rate * (o.threads > 1 ? o.threads * k.eT : 1.0));
+  // Bytes an owned particle holds beyond its fields: measured, or its neighbor list estimated
+  // from the lattice (the wide list's pairs within the widened support of h, 4 B each).
+  const double ball = dim == 1 ? 2.0 : dim == 2 ? std::numbers::pi : 4.0 / 3.0 * std::numbers::pi;
+  k.measuredBytes = measured.bytesOwned > 0.0;
+  k.bytesOwned = k.measuredBytes ? measured.bytesOwned
+                                 : 4.0 * ball * std::pow(schema.support * nodesPerH, dim);
+  return k;
 }
 
-template <int Dim> void planDim(const Deck& deck, const PlanOptions& o) {
-  if (deck.solver.method == SolverMethod::Mpm)
-    throw UsageError("spall plan covers SPH and ASPH decks: MPM's ghosts follow its grid cells "
-                     "and its points' domains, which the plan does not model yet");
-  const auto t0 = std::chrono::steady_clock::now();
-  const Schema schema = schemaOf<Dim>(deck);
-  const bool asph = deck.solver.method == SolverMethod::Asph;
-  const Measured measured = readMeasured(o.measured, Dim);
-  const DefaultCosts defaults = defaultCosts(asph, Dim, schema.solid);
-  const double rate = o.costs.rate > 0.0    ? o.costs.rate
-                      : measured.rate > 0.0 ? measured.rate
-                                            : defaults.rate;
-  const std::string rateFrom =
-      o.costs.rate > 0.0 ? "--rate"
-      : measured.rate > 0.0
-          ? measured.source
-          : fmt::format("the development machine's, {} {}D {}", asph ? "asph" : "sph", Dim,
-                        schema.solid ? "solid" : "hydro");
-  const double gamma = o.costs.ghost > 0.0 ? o.costs.ghost : defaults.ghost;
-  const double slowdown = o.costs.slowdown > 0.0 ? o.costs.slowdown : defaults.slowdown;
-  const double eT = kThreadEfficiency;
-  const double c = 1.0 / (rate * (o.threads > 1 ? o.threads * eT : 1.0));
+// The particles a run makes at t = 0 (only the fields the generator fills) and how far each
+// reaches, as SphMethod::exchangeHalo has it at the first evaluation: the widened support times
+// h; ASPH's bounding box of H = I/h (SmoothingTensor) computed the same way.
+template <int Dim> struct AtStart {
+  std::vector<Vec<Dim>> x, reach;
+  std::vector<ParticleId> id;
+  std::vector<double> radius;
+};
 
-  // The particles a run makes at t = 0: only the fields the generator fills.
+template <int Dim> AtStart<Dim> particlesAtStart(const Deck& deck, double support, bool asph) {
   ParticleStore store;
   ParticleFields<Dim> f;
   f.id = store.add<ParticleId>("id", 0);
@@ -177,99 +174,76 @@ template <int Dim> void planDim(const Deck& deck, const PlanOptions& o) {
   applyEnergySources<Dim>(deck, store, f); // moves nothing, but refuses what a run refuses
   const std::size_t n = store.localCount();
   if (n == 0) throw UsageError("the deck has no particle at t = 0");
-  // Each particle's reach as SphMethod::exchangeHalo gives it at the first evaluation: the
-  // widened support times h; ASPH's bounding box of H = I/h (SmoothingTensor) the same way.
-  std::vector<double> radius(n);
-  std::vector<Vec<Dim>> reach(n);
+  AtStart<Dim> a;
+  a.x.assign(store[f.x].begin(), store[f.x].begin() + static_cast<std::ptrdiff_t>(n));
+  a.id.assign(store[f.id].begin(), store[f.id].begin() + static_cast<std::ptrdiff_t>(n));
+  a.radius.resize(n);
+  a.reach.resize(n);
   const auto h = store[f.h];
   for (std::size_t i = 0; i < n; ++i) {
-    radius[i] = schema.support * h[i];
+    a.radius[i] = support * h[i];
     if (asph) {
       const Tensor<Dim> H = Tensor<Dim>::Identity() / h[i];
-      reach[i] = schema.support * H.inverse().rowwise().norm();
+      a.reach[i] = support * H.inverse().rowwise().norm();
     } else {
-      reach[i] = Vec<Dim>::Constant(radius[i]);
+      a.reach[i] = Vec<Dim>::Constant(a.radius[i]);
     }
   }
-  // A copy of the positions and ids only; the generator's store goes.
-  std::vector<Vec<Dim>> x(store[f.x].begin(), store[f.x].begin() + static_cast<std::ptrdiff_t>(n));
-  std::vector<ParticleId> id(store[f.id].begin(),
-                             store[f.id].begin() + static_cast<std::ptrdiff_t>(n));
-  store = ParticleStore{};
-  parallel::VirtualParticles<Dim> vp;
-  vp.x = x, vp.id = id, vp.reach = reach, vp.radius = radius, vp.round = !asph;
-  vp.periodic = methods::sharedSetup(methodSetup(deck)).periodic;
-  vp.curve = deck.decomposition.curve == CurveType::Morton ? parallel::Curve::Morton
-                                                           : parallel::Curve::Hilbert;
-  const bool morton = vp.curve == parallel::Curve::Morton;
-  const parallel::VirtualRanks<Dim> virtualRanks(std::move(vp));
-  const double setupSeconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return a;
+}
 
-  // Bytes an owned particle holds beyond its fields: measured, or its neighbor list estimated
-  // from the lattice (the wide list's pairs within the widened support of h, 4 B each).
-  double nodesPerH = deck.solver.nodes_per_h;
-  const double ball = Dim == 1 ? 2.0 : Dim == 2 ? std::numbers::pi : 4.0 / 3.0 * std::numbers::pi;
-  const double neighborsEstimate = ball * std::pow(schema.support * nodesPerH, Dim);
-  const double bytesOwned =
-      measured.bytesOwned > 0.0 ? measured.bytesOwned : 4.0 * neighborsEstimate;
+struct RankModel {
+  parallel::VirtualRank r;
+  double seconds = 0.0, bytesSent = 0.0, memory = 0.0;
+};
 
-  const auto model = [&](int R) {
-    const auto tc = std::chrono::steady_clock::now();
-    CountPlan p;
-    p.ranks = R;
-    const auto ranks = virtualRanks.cut(R);
-    p.cutSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - tc).count();
-    const double collectives =
-        R > 1 ? kCollectives * o.costs.latency * std::ceil(std::log2(static_cast<double>(R))) : 0.0;
-    double most = 0.0, sum = 0.0;
-    for (const auto& r : ranks) {
-      RankModel m;
-      m.r = r;
-      m.bytesSent = static_cast<double>(r.sent) * schema.haloBytes;
-      const double messages = static_cast<double>(r.sendsTo + r.receivesFrom);
-      m.seconds = (R > 1 ? slowdown : 1.0) * c *
-                      (static_cast<double>(r.owned) + gamma * static_cast<double>(r.ghosts)) +
-                  schema.exchanges * messages * o.costs.latency + m.bytesSent / o.costs.bandwidth +
-                  collectives;
-      m.memory = static_cast<double>(r.owned + r.ghosts) * schema.fieldBytes +
-                 static_cast<double>(r.owned) * bytesOwned;
-      most = std::max(most, m.seconds);
-      sum += m.seconds;
-      p.ghosts += r.ghosts;
-      p.per.push_back(m);
-    }
-    // R ranks on fewer cores share them (oversubscribed ranks yield when they wait).
-    const int cores = o.cores > 0 ? std::min(o.cores, R) : R;
-    p.step = std::max(most, sum / cores);
-    return p;
-  };
-  // The reference: one rank (with its own periodic images, if any).
-  const double serial = model(1).step;
-  std::vector<CountPlan> plans;
-  for (const int R : o.ranks) {
-    plans.push_back(model(R));
-    plans.back().efficiency = serial / (R * plans.back().step);
+struct CountPlan {
+  int ranks = 0;
+  std::vector<RankModel> per;
+  double step = 0.0, efficiency = 1.0;
+  std::uint64_t ghosts = 0;
+  double cutSeconds = 0.0;
+};
+
+// Plan.hpp's model on one cut.
+CountPlan modelOf(const std::vector<parallel::VirtualRank>& ranks, const Schema& schema,
+                  const Costs& k, const PlanOptions& o) {
+  CountPlan p;
+  const int R = static_cast<int>(ranks.size());
+  p.ranks = R;
+  const double collectives =
+      R > 1 ? kCollectives * o.costs.latency * std::ceil(std::log2(static_cast<double>(R))) : 0.0;
+  double most = 0.0, sum = 0.0;
+  for (const auto& r : ranks) {
+    RankModel m;
+    m.r = r;
+    m.bytesSent = static_cast<double>(r.sent) * schema.haloBytes;
+    const double messages = static_cast<double>(r.sendsTo + r.receivesFrom);
+    m.seconds = (R > 1 ? k.slowdown : 1.0) * k.c *
+                    (static_cast<double>(r.owned) + k.gamma * static_cast<double>(r.ghosts)) +
+                schema.exchanges * messages * o.costs.latency + m.bytesSent / o.costs.bandwidth +
+                collectives;
+    m.memory = static_cast<double>(r.owned + r.ghosts) * schema.fieldBytes +
+               static_cast<double>(r.owned) * k.bytesOwned;
+    most = std::max(most, m.seconds);
+    sum += m.seconds;
+    p.ghosts += r.ghosts;
+    p.per.push_back(m);
   }
+  // R ranks on fewer cores share them (oversubscribed ranks yield when they wait).
+  const int cores = o.cores > 0 ? std::min(o.cores, R) : R;
+  p.step = std::max(most, sum / cores);
+  return p;
+}
 
-  // ---- the report ----
-  const std::string method = asph ? "asph" : "sph";
-  fmt::print("plan: {} | {}D{} | {} | {} curve | {} particles at t = 0\n", o.deckPath, Dim,
-             deck.run.geometry == Geometry::RZ ? " rz" : "", methodSummary(deck),
-             morton ? "morton" : "hilbert", n);
-  fmt::print("reach: {:.3g} h (support x (1 + skin)); fields {:.0f} B a row, a ghost receives "
-             "{:.0f} B in {} exchange{} a step\n",
-             schema.support, schema.fieldBytes, schema.haloBytes, schema.exchanges,
-             schema.exchanges > 1 ? "s" : "");
-  fmt::print("costs: {:.3g} particle-steps/s per core ({}), x {:.2f} when every core works, a "
-             "ghost {:.2f} of a particle, {:.2g} s a message, {:.3g} B/s, {} collectives a "
-             "step{}\n",
-             rate, rateFrom, slowdown, gamma, o.costs.latency, o.costs.bandwidth, kCollectives,
-             o.threads > 1 ? fmt::format(", {} threads at {:.2f}", o.threads, eT) : "");
-  fmt::print("memory: fields x (owned + ghosts) + {:.0f} B an owned particle ({})\n", bytesOwned,
-             measured.bytesOwned > 0.0 ? "measured" : "its neighbor list, estimated");
-  fmt::print("built in {:.2f} s\n\n", setupSeconds);
+std::string human(double bytes) {
+  if (bytes >= 1e9) return fmt::format("{:.2f} GB", bytes / 1e9);
+  if (bytes >= 1e6) return fmt::format("{:.1f} MB", bytes / 1e6);
+  if (bytes >= 1e3) return fmt::format("{:.1f} kB", bytes / 1e3);
+  return fmt::format("{:.0f} B", bytes);
+}
 
+void printTables(const std::vector<CountPlan>& plans, std::size_t n, bool perRank) {
   fmt::print("{:>6} {:>11} {:>11} {:>9} {:>8} {:>9} {:>11} {:>11} {:>11} {:>6}\n", "ranks",
              "owned/rank", "ghosts", "g/o max", "nbrs max", "ranks g>o", "sent/step", "memory max",
              "step (s)", "eff");
@@ -289,8 +263,24 @@ template <int Dim> void planDim(const Deck& deck, const PlanOptions& o) {
                p.ranks, static_cast<double>(n) / p.ranks, p.ghosts, goMax, nbMax, over,
                human(sentMax), human(memMax), p.step, p.efficiency);
   }
+  // The two thresholds a user sizes a run by, among the rank counts asked for.
+  const CountPlan* belowEfficiency = nullptr;
+  const CountPlan* ghostsOver = nullptr;
   for (const auto& p : plans) {
-    if (!(o.perRank || p.ranks <= 16)) continue;
+    if (!belowEfficiency && p.efficiency < 0.8) belowEfficiency = &p;
+    for (const auto& m : p.per)
+      if (!ghostsOver && m.r.ghosts > m.r.owned) ghostsOver = &p;
+  }
+  fmt::print("\nefficiency below 0.8: {}\nghosts more than a rank's own particles: {}\n",
+             belowEfficiency
+                 ? fmt::format("from {} ranks ({:.0f} particles a rank)", belowEfficiency->ranks,
+                               static_cast<double>(n) / belowEfficiency->ranks)
+                 : "at none of these rank counts",
+             ghostsOver ? fmt::format("from {} ranks ({:.0f} particles a rank)", ghostsOver->ranks,
+                                      static_cast<double>(n) / ghostsOver->ranks)
+                        : "at none of these rank counts");
+  for (const auto& p : plans) {
+    if (!(perRank || p.ranks <= 16)) continue;
     fmt::print("\n{} rank{}:\n{:>6} {:>11} {:>9} {:>8} {:>8} {:>8} {:>11} {:>11} {:>11}\n", p.ranks,
                p.ranks > 1 ? "s" : "", "rank", "owned", "ghosts", "sends", "receives", "nbrs",
                "sent/step", "memory", "step (s)");
@@ -301,50 +291,104 @@ template <int Dim> void planDim(const Deck& deck, const PlanOptions& o) {
                  human(m.memory), m.seconds);
     }
   }
+}
 
-  if (!o.json.empty()) {
-    nlohmann::json j;
-    j["deck"] = o.deckPath;
-    j["dimension"] = Dim;
-    j["method"] = method;
-    j["particles"] = n;
-    j["reach_in_h"] = schema.support;
-    j["field_bytes"] = schema.fieldBytes;
-    j["halo_bytes"] = schema.haloBytes;
-    j["exchanges_per_step"] = schema.exchanges;
-    j["costs"] = {{"rate", rate},
-                  {"rate_from", rateFrom},
-                  {"ghost", gamma},
-                  {"slowdown", slowdown},
-                  {"latency", o.costs.latency},
-                  {"bandwidth", o.costs.bandwidth},
-                  {"collectives_per_step", kCollectives},
-                  {"threads", o.threads},
-                  {"thread_efficiency", eT},
-                  {"bytes_per_owned_particle", bytesOwned}};
-    for (const auto& p : plans) {
-      nlohmann::json q;
-      q["ranks"] = p.ranks;
-      q["ghosts"] = p.ghosts;
-      q["step_seconds"] = p.step;
-      q["efficiency"] = p.efficiency;
-      q["cut_seconds"] = p.cutSeconds;
-      for (const auto& m : p.per)
-        q["per_rank"].push_back({{"owned", m.r.owned},
-                                 {"ghosts", m.r.ghosts},
-                                 {"sent", m.r.sent},
-                                 {"sends_to", m.r.sendsTo},
-                                 {"receives_from", m.r.receivesFrom},
-                                 {"neighbors", m.r.neighbors},
-                                 {"bytes_sent_per_step", m.bytesSent},
-                                 {"memory_bytes", m.memory},
-                                 {"step_seconds", m.seconds}});
-      j["plans"].push_back(q);
-    }
-    std::ofstream out(o.json);
-    if (!out) throw UsageError(fmt::format("cannot write {}", o.json));
-    out << j.dump(1) << "\n";
+void writeJson(const std::string& path, nlohmann::json j, const std::vector<CountPlan>& plans) {
+  for (const auto& p : plans) {
+    nlohmann::json q;
+    q["ranks"] = p.ranks;
+    q["ghosts"] = p.ghosts;
+    q["step_seconds"] = p.step;
+    q["efficiency"] = p.efficiency;
+    q["cut_seconds"] = p.cutSeconds;
+    for (const auto& m : p.per)
+      q["per_rank"].push_back({{"owned", m.r.owned},
+                               {"ghosts", m.r.ghosts},
+                               {"sent", m.r.sent},
+                               {"sends_to", m.r.sendsTo},
+                               {"receives_from", m.r.receivesFrom},
+                               {"neighbors", m.r.neighbors},
+                               {"bytes_sent_per_step", m.bytesSent},
+                               {"memory_bytes", m.memory},
+                               {"step_seconds", m.seconds}});
+    j["plans"].push_back(q);
   }
+  std::ofstream out(path);
+  if (!out) throw UsageError(fmt::format("cannot write {}", path));
+  out << j.dump(1) << "\n";
+}
+
+template <int Dim> void planDim(const Deck& deck, const PlanOptions& o) {
+  if (deck.solver.method == SolverMethod::Mpm)
+    throw UsageError("spall plan covers SPH and ASPH decks: MPM's ghosts follow its grid cells "
+                     "and its points' domains, which the plan does not model yet");
+  const auto t0 = std::chrono::steady_clock::now();
+  const Schema schema = schemaOf<Dim>(deck);
+  const bool asph = deck.solver.method == SolverMethod::Asph;
+  const Costs k = resolveCosts(o, schema, asph, Dim, deck.solver.nodes_per_h);
+  const AtStart<Dim> start = particlesAtStart<Dim>(deck, schema.support, asph);
+  const std::size_t n = start.x.size();
+  parallel::VirtualParticles<Dim> vp;
+  vp.x = start.x, vp.id = start.id, vp.reach = start.reach, vp.radius = start.radius;
+  vp.round = !asph;
+  vp.periodic = methods::sharedSetup(methodSetup(deck)).periodic;
+  const bool morton = deck.decomposition.curve == CurveType::Morton;
+  vp.curve = morton ? parallel::Curve::Morton : parallel::Curve::Hilbert;
+  const parallel::VirtualRanks<Dim> virtualRanks(std::move(vp));
+  const double setupSeconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  // The reference: one rank (with its own periodic images, if any).
+  const double serial = modelOf(virtualRanks.cut(1), schema, k, o).step;
+  std::vector<CountPlan> plans;
+  for (const int R : o.ranks) {
+    const auto tc = std::chrono::steady_clock::now();
+    const auto ranks = virtualRanks.cut(R);
+    const double cut = std::chrono::duration<double>(std::chrono::steady_clock::now() - tc).count();
+    plans.push_back(modelOf(ranks, schema, k, o));
+    plans.back().cutSeconds = cut;
+    plans.back().efficiency = serial / (R * plans.back().step);
+  }
+
+  fmt::print("plan: {} | {}D{} | {} | {} curve | {} particles at t = 0\n", o.deckPath, Dim,
+             deck.run.geometry == Geometry::RZ ? " rz" : "", methodSummary(deck),
+             morton ? "morton" : "hilbert", n);
+  fmt::print("reach: {:.3g} h (support x (1 + skin)); fields {:.0f} B a row, a ghost receives "
+             "{:.0f} B in {} exchange{} a step\n",
+             schema.support, schema.fieldBytes, schema.haloBytes, schema.exchanges,
+             schema.exchanges > 1 ? "s" : "");
+  fmt::print("costs: {:.3g} particle-steps/s per core ({}), x {:.2f} when every core works, a "
+             "ghost {:.2f} of a particle, {:.2g} s a message, {:.3g} B/s, {} collectives a "
+             "step{}\n",
+             k.rate, k.rateFrom, k.slowdown, k.gamma, o.costs.latency, o.costs.bandwidth,
+             kCollectives,
+             o.threads > 1 ? fmt::format(", {} threads at {:.2f}", o.threads, k.eT) : "");
+  fmt::print("memory: fields x (owned + ghosts) + {:.0f} B an owned particle ({})\n", k.bytesOwned,
+             k.measuredBytes ? "measured" : "its neighbor list, estimated");
+  fmt::print("built in {:.2f} s\n\n", setupSeconds);
+  printTables(plans, n, o.perRank);
+
+  if (o.json.empty()) return;
+  nlohmann::json j;
+  j["deck"] = o.deckPath;
+  j["dimension"] = Dim;
+  j["method"] = asph ? "asph" : "sph";
+  j["particles"] = n;
+  j["reach_in_h"] = schema.support;
+  j["field_bytes"] = schema.fieldBytes;
+  j["halo_bytes"] = schema.haloBytes;
+  j["exchanges_per_step"] = schema.exchanges;
+  j["costs"] = {{"rate", k.rate},
+                {"rate_from", k.rateFrom},
+                {"ghost", k.gamma},
+                {"slowdown", k.slowdown},
+                {"latency", o.costs.latency},
+                {"bandwidth", o.costs.bandwidth},
+                {"collectives_per_step", kCollectives},
+                {"threads", o.threads},
+                {"thread_efficiency", k.eT},
+                {"bytes_per_owned_particle", k.bytesOwned}};
+  writeJson(o.json, std::move(j), plans);
 }
 
 } // namespace
