@@ -221,6 +221,7 @@ methods::MethodSetup methodSetup(const Deck& deck) {
     if (deck.bodies[b].fixed) s.fixedBodies.push_back(static_cast<std::int32_t>(b));
   s.reproducible = deck.decomposition.reproducible;
   s.imbalanceThreshold = deck.decomposition.imbalance_threshold;
+  s.timedCost = deck.decomposition.cost == BalanceCost::Timed;
   if (deck.solver.method != SolverMethod::Mpm) return s;
   double finest = std::numeric_limits<double>::infinity(), coarsest = 0.0;
   for (const auto& b : deck.bodies) {

@@ -159,14 +159,20 @@ void DeckReader::read(Deck& deck) {
   });
   entries("boundary", deck.boundaries,
           [&](const TableReader& r, BoundaryConfig& b) { readBoundary(r, b, deck.bodies); });
+  // One pressure table per body; one period per axis (two would contradict each other, and the
+  // halo's periodic images count on one).
   for (std::size_t i = 0; i < deck.boundaries.size(); ++i)
-    for (std::size_t k = 0; k < i; ++k)
-      if (deck.boundaries[i].type == BoundaryType::Pressure &&
-          deck.boundaries[k].type == BoundaryType::Pressure &&
-          deck.boundaries[i].bodyIndex == deck.boundaries[k].bodyIndex)
-        throw DeckError(deck.boundaries[i].where,
-                        "body '" + deck.boundaries[i].body +
-                            "' has a pressure boundary already (one table per body)");
+    for (std::size_t k = 0; k < i; ++k) {
+      const BoundaryConfig &a = deck.boundaries[i], &b = deck.boundaries[k];
+      if (a.type != b.type) continue;
+      if (a.type == BoundaryType::Pressure && a.bodyIndex == b.bodyIndex)
+        throw DeckError(a.where, "body '" + a.body +
+                                     "' has a pressure boundary already (one table per body)");
+      if (a.type == BoundaryType::Periodic && a.axis == b.axis)
+        throw DeckError(a.where, fmt::format("axis {} is periodic already (one periodic "
+                                             "boundary per axis)",
+                                             a.axis));
+    }
   if (const auto* t = top.subtable("damping"))
     keys::readDamping(reader(*t, Context{}.child("damping")), deck.damping.emplace());
 

@@ -4,6 +4,7 @@
 #include "spall/diagnostics/Conservation.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
@@ -16,6 +17,7 @@ ParticleMethodSetup sharedSetup(const MethodSetup& s) {
   for (const auto& b : s.boundaries)
     if (b.type == BoundaryType::Periodic) c.periodic.push_back({b.axis, b.min, b.max});
   c.imbalanceThreshold = s.imbalanceThreshold;
+  c.timedCost = s.timedCost;
   c.nodesPerH = s.solver.nodes_per_h;
   c.note = s.note;
   return c;
@@ -159,8 +161,11 @@ template <int Dim> materials::MaterialFields ParticleMethod<Dim>::materialFields
 
 template <int Dim>
 void ParticleMethod<Dim>::balance(std::int64_t step, const neighbors::NeighborList* pairs) {
+  if (common_.timedCost)
+    for (std::int32_t c : s_[cost_].first(s_.localCount())) countedWork_ += c;
   stats_.imbalance = decomposition_.imbalance(s_);
   if (!decomposition_.rebalanceDue(step, stats_.imbalance)) return;
+  if (common_.timedCost) weighByTime();
   const auto r = decomposition_.rebalance(s_, pairs);
   ++stats_.rebalances;
   stats_.imbalance = r.imbalanceAfter;
@@ -171,6 +176,23 @@ void ParticleMethod<Dim>::balance(std::int64_t step, const neighbors::NeighborLi
         "rebalance at step {}: cost max/mean {:.3f} -> {:.3f}, {} particles moved{}", step,
         r.imbalanceBefore, r.imbalanceAfter, r.moved,
         r.metisEdgeCut >= 0 ? fmt::format(", METIS edge cut {} pairs", r.metisEdgeCut) : ""));
+}
+
+template <int Dim> void ParticleMethod<Dim>::weighByTime() {
+  // The phases that grow with a rank's particles and pairs (not the exchanges: they wait).
+  const auto& p = stats_.phases;
+  const double seconds =
+      p[kNeighbors] + p[kDensity] + p[kForces] + p[kIntegration] + p[kBoundaries];
+  std::array<double, 2> mine{seconds - secondsAtCut_, countedWork_}, all = mine;
+  MPI_Allreduce(MPI_IN_PLACE, all.data(), 2, MPI_DOUBLE, MPI_SUM, mpi_.comm());
+  secondsAtCut_ = seconds;
+  countedWork_ = 0.0;
+  if (!(mine[0] > 0.0 && mine[1] > 0.0 && all[0] > 0.0 && all[1] > 0.0)) return;
+  // A rank's seconds per counted unit over the mean; bounded, so that one stalled step (the
+  // machine busy elsewhere) cannot empty a rank.
+  const double weight = std::clamp((mine[0] / mine[1]) / (all[0] / all[1]), 0.25, 4.0);
+  for (std::int32_t& c : s_[cost_].first(s_.localCount()))
+    c = static_cast<std::int32_t>(std::max(1.0, std::round(c * weight)));
 }
 
 template <int Dim>

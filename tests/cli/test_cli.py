@@ -161,6 +161,11 @@ def main():
         deck_error("pressure_twice", t, [k for k, l in enumerate(t.splitlines(), 1)
                                          if l == "[[boundary]]"][1], 1,
                    ["has a pressure boundary already"], tmp)
+        # One periodic boundary per axis.
+        t = ok + '[[boundary]]\ntype = "periodic"\naxis = 0\nmin = 0.0\nmax = 1.0\n' * 2
+        deck_error("periodic_twice", t, [k for k, l in enumerate(t.splitlines(), 1)
+                                         if l == "[[boundary]]"][1], 1,
+                   ["axis 0 is periodic already"], tmp)
         # The EOS's tension limit is a tension (<= 0); h's volume ratios are ordered.
         t = replace_line(ok, "gamma0 = 2.02 }", "gamma0 = 2.02, min_pressure = 1.0e9 }")
         ln = line_of(t, "min_pressure")[0]

@@ -71,6 +71,10 @@ CASES = [("sod_1d.toml", []), ("rod_impact_copper.toml", ["run.end_time=6e-6"]),
          ("taylor_bar_3d.toml", ["run.resolution=0.4", "run.max_steps=20"]),
          # ASPH in 3D: ellipsoids against the rigid wall (mirrored H) and across ranks
          ("taylor_bar_3d.toml", ["run.resolution=0.4", "run.max_steps=20", "solver.method=asph"]),
+         # cuts from measured times (decomposition.cost = "timed"), a new partition every 5
+         # steps that no other run repeats: the physics must not see it
+         ("taylor_bar_3d.toml", ["run.resolution=0.4", "run.max_steps=30",
+                                 'decomposition.cost="timed"', "decomposition.rebalance_every=5"]),
          # axisymmetric: the axis images (and the wall's images of them), ring masses, hoop
          # terms; SPH and ASPH
          ("taylor_bar_rz.toml", ["run.end_time=1e-5"]),

@@ -123,9 +123,11 @@ def history(out):
     header = rows[0].split(",")
     # wall_seconds differs between runs, by nature; so do the ghost and migration counts: a
     # resumed run searches its neighbors at once, the uninterrupted one when its kept lists are
-    # used up (solver.neighbor_skin), and ghosts are made and particles change ranks at searches.
-    # Every other column must not (the totals are sums that ignore the particles' order).
-    skip = {header.index(c) for c in ("wall_seconds", "ghosts", "migrated") if c in header}
+    # used up (solver.neighbor_skin), and ghosts are made and particles change ranks at searches;
+    # and the imbalance, a diagnostic of the partition (decomposition.cost = "timed" cuts by
+    # measured times). The physics columns must not (sums that ignore the particles' order).
+    skip = {header.index(c) for c in ("wall_seconds", "ghosts", "migrated", "imbalance")
+            if c in header}
     return [",".join(c for i, c in enumerate(r.split(",")) if i not in skip) for r in rows[1:]]
 
 

@@ -49,9 +49,16 @@ enum class Partitioner { Sfc, Metis };
 inline constexpr NameTable<Partitioner, 2> kPartitionerNames{
     {{{Partitioner::Sfc, "sfc"}, {Partitioner::Metis, "metis"}}}};
 
+// What a particle costs the balance: its counted pairs (reproducible), or those weighted by
+// the time its rank measured per counted pair (the physics is the same on any partition).
+enum class BalanceCost { Counted, Timed };
+inline constexpr NameTable<BalanceCost, 2> kBalanceCostNames{
+    {{{BalanceCost::Counted, "counted"}, {BalanceCost::Timed, "timed"}}}};
+
 struct DecompositionConfig {
   CurveType curve = CurveType::Hilbert;
   Partitioner partitioner = Partitioner::Sfc;
+  BalanceCost cost = BalanceCost::Counted;
   int rebalance_every = 20;
   double imbalance_threshold = 1.1; // max/mean cost that triggers a rebalance at any step
   bool reproducible = true;         // neighbor sums in a rank-count-independent order

@@ -17,6 +17,7 @@ struct MethodSetup {
   std::vector<std::int32_t> fixedBodies; // bodies with `fixed = true` (MPM: their grid nodes)
   bool reproducible = true;              // neighbor sums in a rank-count-independent order
   double imbalanceThreshold = 1.1;       // a rebalance above it is worth a note
+  bool timedCost = false;                // balance by measured time per counted pair
   std::function<void(const std::string&)> note; // a line for the run log (may be empty)
 };
 

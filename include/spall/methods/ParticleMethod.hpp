@@ -28,6 +28,7 @@ namespace spall::methods {
 struct ParticleMethodSetup {
   std::vector<parallel::PeriodicAxis> periodic;
   double imbalanceThreshold = 1.1;              // a rebalance above it is worth a note
+  bool timedCost = false;                       // balance by measured time per counted pair
   double nodesPerH = 1.5;                       // h per particle spacing (fragments' link length)
   std::function<void(const std::string&)> note; // a line for the run log (may be empty)
 };
@@ -79,6 +80,9 @@ protected:
   // Measures the imbalance of the cost and re-cuts the key axis when due; the pairs (the owned
   // rows', if any) are the graph METIS cuts.
   void balance(std::int64_t step, const neighbors::NeighborList* pairs);
+  // decomposition.cost = "timed": each owned particle's counted cost times its rank's measured
+  // seconds per counted unit since the last cut, over the mean of all ranks'.
+  void weighByTime();
 
   const parallel::MpiContext& mpi_;
   ParticleMethodSetup common_;
@@ -91,6 +95,8 @@ protected:
   parallel::HaloExchange<Dim> halo_;
   neighbors::CellGrid<Dim> grid_;
   StepStats stats_;
+  double countedWork_ = 0.0;  // this rank's counted cost summed over the steps since the cut
+  double secondsAtCut_ = 0.0; // its compute phases' seconds at the last cut
   // The work and impulse of the external forces the modules apply (a confining pressure,
   // damping), by the trapezoidal rule over the steps, and their load in the last evaluated state.
   double externalWork_ = 0.0;

@@ -42,6 +42,9 @@ template <class K> void keysOf(K& k, DecompositionConfig& d) {
            "The space-filling curve that orders particles for the partition.");
   k.choice("partitioner", d.partitioner, kPartitionerNames, keep,
            "sfc: cut the curve into equal-cost pieces; metis: partition the neighbor graph.");
+  k.choice("cost", d.cost, kBalanceCostNames, keep,
+           "counted: a particle's neighbor pairs (the same cuts every run); timed: those "
+           "weighted by the seconds per pair its rank measured since the last cut.");
   k.integer("rebalance_every", d.rebalance_every, keep, "steps", atLeast(0),
             "Steps between repartitions; 0: only when imbalance_threshold is crossed.");
   k.number("imbalance_threshold", d.imbalance_threshold, keep, "", atLeast(1),
