@@ -15,6 +15,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <sstream>
 
 // `spall plan` (Plan.hpp): the deck's particles at t = 0 on one process, cut for each rank
 // count as a run would cut them, and the model's step times.
@@ -53,6 +54,41 @@ struct Measured {
   std::string source;
 };
 
+// A run's steady rate from its history.csv: particle-steps (substeps with time bins) per second
+// over the second half of its rows, the start-up, the first searches and cuts left out. 0 when
+// it has fewer than 10 rows.
+double steadyRate(const std::filesystem::path& history) {
+  std::ifstream in(history);
+  std::string line;
+  if (!std::getline(in, line)) return 0.0;
+  std::vector<std::string> head;
+  for (std::size_t a = 0, b; a <= line.size(); a = b + 1) {
+    b = std::min(line.find(',', a), line.size());
+    head.push_back(line.substr(a, b - a));
+  }
+  const auto column = [&](const char* name) {
+    return static_cast<int>(std::find(head.begin(), head.end(), name) - head.begin());
+  };
+  const int step = column("step"), wall = column("wall_seconds"), n = column("particles"),
+            sub = column("substeps"), cols = static_cast<int>(head.size());
+  if (step == cols || wall == cols || n == cols) return 0.0;
+  std::vector<std::vector<double>> rows;
+  while (std::getline(in, line)) {
+    std::vector<double> r;
+    std::istringstream s(line);
+    for (std::string cell; std::getline(s, cell, ',');) r.push_back(std::atof(cell.c_str()));
+    if (static_cast<int>(r.size()) == cols) rows.push_back(std::move(r));
+  }
+  if (rows.size() < 10) return 0.0;
+  const std::size_t mid = rows.size() / 2;
+  double substeps = 0.0;
+  for (std::size_t k = mid + 1; k < rows.size(); ++k) substeps += sub < cols ? rows[k][sub] : 1.0;
+  substeps /= static_cast<double>(rows.size() - mid - 1);
+  const double seconds = rows.back()[wall] - rows[mid][wall];
+  const double steps = rows.back()[step] - rows[mid][step];
+  return seconds > 0.0 ? rows.back()[n] * steps * substeps / seconds : 0.0;
+}
+
 Measured readMeasured(const std::string& dir, int dimension) {
   Measured m;
   if (dir.empty()) return m;
@@ -68,15 +104,22 @@ Measured readMeasured(const std::string& dir, int dimension) {
   if (j.value("dimension", 0) != dimension)
     throw UsageError(fmt::format("--measured: {} is a {}D run; the deck is {}D", path.string(),
                                  j.value("dimension", 0), dimension));
-  m.rate = j.value("particle_steps_per_second_per_core", 0.0) * j.value("threads_per_rank", 1);
-  if (!(m.rate > 0.0))
-    throw UsageError(
-        fmt::format("--measured: {} has no particle_steps_per_second_per_core", path.string()));
+  if (j.value("ranks", 0) != 1 || j.value("threads_per_rank", 0) != 1)
+    throw UsageError(fmt::format("--measured: {} is a run of {} rank(s) x {} thread(s); the "
+                                 "model's rate is one rank's, one thread",
+                                 path.string(), j.value("ranks", 0),
+                                 j.value("threads_per_rank", 0)));
+  m.rate = steadyRate(std::filesystem::path(dir) / "history.csv");
+  m.source = fmt::format("{}, steps of the second half", dir);
+  if (!(m.rate > 0.0)) {
+    m.rate = j.value("particle_steps_per_second_per_core", 0.0);
+    m.source = fmt::format("{}, the whole run with its start-up: run 10 steps or more", dir);
+  }
+  if (!(m.rate > 0.0)) throw UsageError(fmt::format("--measured: {} holds no rate", path.string()));
   if (j.contains("memory_parts")) {
     const auto& p = j["memory_parts"];
     m.bytesOwned = p.value("accounted", 0.0) - p.value("particle_fields", 0.0);
   }
-  m.source = path.string();
   return m;
 }
 

@@ -72,8 +72,9 @@ CLI::App* addPlanCommand(CLI::App& cli, spall::app::PlanOptions& plan,
   planCmd->add_option("--set", overrides, "override a deck value: KEY=VALUE");
   planCmd->add_option("--cores", plan.cores,
                       "cores the ranks share (default: one per rank, as on a cluster)");
-  planCmd->add_option("--measured", plan.measured,
-                      "a run's output directory of this deck: its rate and bytes per particle");
+  planCmd->add_option(
+      "--measured", plan.measured,
+      "a 1-rank, 1-thread run of this deck: its steady rate and bytes per particle");
   planCmd->add_option("--rate", plan.costs.rate, "particle-steps/s per core, one thread");
   planCmd->add_option("--ghost-cost", plan.costs.ghost,
                       "a ghost's cost a step relative to an owned particle's");

@@ -122,6 +122,31 @@ with tempfile.TemporaryDirectory() as tmp:
         check("owned/rank" in p.stdout and "\n4 ranks:\n" in p.stdout,
               "the summary table and the per-rank table are printed")
 
+    # --measured: the rate of a 1-rank run's steady steps (history.csv's second half) and the
+    # bytes it accounted beyond its fields.
+    run = tmp / "measured"
+    subprocess.run([SPALL, "run", str(SRC / "decks/sod_1d.toml"), "--output", str(run), "--quiet",
+                    "--set", "run.max_steps=40"], env=ENV, check=True)
+    out = tmp / "measured.json"
+    p = plan(SRC / "decks/sod_1d.toml", [2], [], out, "--measured", str(run))
+    rows = [r.split(",") for r in (run / "history.csv").read_text().splitlines()]
+    col = {k: i for i, k in enumerate(rows[0])}
+    rows = [[float(x) for x in r] for r in rows[1:]]
+    mid, last = rows[len(rows) // 2], rows[-1]
+    subs = [r[col["substeps"]] for r in rows[len(rows) // 2 + 1:]]
+    rate = (last[col["particles"]] * (last[col["step"]] - mid[col["step"]]) * sum(subs) /
+            len(subs) / (last[col["wall_seconds"]] - mid[col["wall_seconds"]]))
+    summary = json.loads((run / "summary.json").read_text())
+    costs = json.loads(out.read_text())["costs"] if p.returncode == 0 else {}
+    # 1e-6: history.csv's wall clock is printed to the millisecond, read back the same way
+    check(p.returncode == 0 and abs(costs["rate"] / rate - 1.0) < 1e-6 and
+          "second half" in costs["rate_from"],
+          f"--measured: rate {costs.get('rate', 0):.6g} = history's steady rate {rate:.6g}")
+    parts = summary["memory_parts"]
+    check(abs(costs.get("bytes_per_owned_particle", 0) -
+              (parts["accounted"] - parts["particle_fields"])) < 1e-9,
+          "--measured: the bytes an owned particle holds beyond its fields, as accounted")
+
     # ---- bad input ---------------------------------------------------------------------------
     def refused(cmd, expect, what, mpi=False):
         if mpi:
@@ -140,6 +165,12 @@ with tempfile.TemporaryDirectory() as tmp:
     refused([SPALL, "plan", str(SRC / "decks/sod_1d.toml")], "--ranks", "no rank count")
     refused([SPALL, "plan", str(SRC / "decks/sod_1d.toml"), "--ranks", "2", "--measured",
              str(tmp / "nowhere")], "summary.json", "a missing --measured run")
+    two = tmp / "two_ranks"
+    two.mkdir()
+    (two / "summary.json").write_text(json.dumps({"dimension": 1, "ranks": 2,
+                                                  "threads_per_rank": 1}))
+    refused([SPALL, "plan", str(SRC / "decks/sod_1d.toml"), "--ranks", "2", "--measured",
+             str(two)], "one rank's", "a 2-rank run as --measured")
     refused([SPALL, "plan", str(SRC / "decks/sod_1d.toml"), "--ranks", "2"], "one process",
             "two processes", mpi=True)
     refused([SPALL, "plan", str(SRC / "decks/sedov_3d.toml"), "--ranks", "2", "--set",
@@ -148,7 +179,7 @@ with tempfile.TemporaryDirectory() as tmp:
     deck.write_text((SRC / "decks/sod_1d.toml").read_text().replace("[run]", "[run]\nend_tme = 1",
                                                                     1))
     refused([SPALL, "plan", str(deck), "--ranks", "2"], f"{deck}:", "a deck error at its line")
-    check(set(tmp.iterdir()) - before == {deck} and not bad.exists(),
+    check(set(tmp.iterdir()) - before == {deck, two} and not bad.exists(),
           "refused plans write nothing")
 
 print(f"\n{len(failures)} failure(s)")
