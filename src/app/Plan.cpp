@@ -440,7 +440,8 @@ void runPlan(const Deck& deck, const PlanOptions& options, const parallel::MpiCo
   if (mpi.size() > 1) throw UsageError("spall plan runs on one process (its ranks are virtual)");
   if (options.ranks.empty()) throw UsageError("--ranks: give at least one rank count");
   for (int r : options.ranks)
-    if (r < 1 || r > 1 << 20) throw UsageError(fmt::format("--ranks: {} is not in [1, 2^20]", r));
+    // 128 boxes of 80 B per rank: 2^16 ranks hold 0.7 GB of them.
+    if (r < 1 || r > 1 << 16) throw UsageError(fmt::format("--ranks: {} is not in [1, 65536]", r));
   if (options.threads < 1) throw UsageError("--threads: at least 1");
   if (!(options.costs.latency >= 0.0) || !(options.costs.bandwidth > 0.0) ||
       !(options.costs.rate >= 0.0) || !(options.costs.ghost >= 0.0) ||
