@@ -66,8 +66,7 @@ void HaloExchange<Dim>::build(ParticleStore& s, Field<Vec<Dim>> xf, std::span<co
   const std::size_t n = s.localCount();
   reachScratch_.resize(n);
   for (std::size_t i = 0; i < n; ++i) reachScratch_[i] = Vec<Dim>::Constant(reach[i]);
-  round_ = true;
-  buildWith(s, xf, reach.first(n), fields);
+  buildWith(s, xf, reach.first(n), fields, true);
 }
 
 template <int Dim>
@@ -76,18 +75,17 @@ void HaloExchange<Dim>::build(ParticleStore& s, Field<Vec<Dim>> xf, std::span<co
                               std::span<const std::size_t> fields) {
   const std::size_t n = s.localCount();
   reachScratch_.assign(halfWidth.begin(), halfWidth.begin() + static_cast<std::ptrdiff_t>(n));
-  round_ = false;
-  buildWith(s, xf, radius.first(n), fields);
+  buildWith(s, xf, radius.first(n), fields, false);
 }
 
 template <int Dim>
 void HaloExchange<Dim>::buildWith(ParticleStore& s, Field<Vec<Dim>> xf,
                                   std::span<const double> radius,
-                                  std::span<const std::size_t> fields) {
+                                  std::span<const std::size_t> fields, bool round) {
   s.dropGhosts();
   const std::size_t n = s.localCount();
   const auto x = std::span<const Vec<Dim>>(s[xf]).first(n);
-  describeDomains(x, reachScratch_, radius, round_);
+  describeDomains(x, reachScratch_, radius, round);
   plan(x, reachScratch_, radius);
 
   std::vector<std::size_t> countTo(static_cast<std::size_t>(size_));

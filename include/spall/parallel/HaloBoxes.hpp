@@ -94,9 +94,7 @@ public:
   }
   int ranks() const { return static_cast<int>(rankBox_.size()); }
   const HaloBox<Dim>& rankBox(int r) const { return rankBox_[static_cast<std::size_t>(r)]; }
-  const std::vector<PeriodicAxis>& periodic() const { return periodic_; }
-  // The largest reach of any box (per axis) and radius.
-  const Vec<Dim>& reachMax() const { return reachMax_; }
+  // The largest radius of any box.
   double radiusMax() const { return radiusMax_; }
   std::size_t bytes() const { return allocatedBytes(periodic_, boxes_, rankBox_); }
 

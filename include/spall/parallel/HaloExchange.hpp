@@ -48,7 +48,7 @@ public:
 
 private:
   void buildWith(ParticleStore& s, Field<Vec<Dim>> x, std::span<const double> radius,
-                 std::span<const std::size_t> fields);
+                 std::span<const std::size_t> fields, bool round);
   void describeDomains(std::span<const Vec<Dim>> x, std::span<const Vec<Dim>> reach,
                        std::span<const double> radius, bool round);
   void plan(std::span<const Vec<Dim>> x, std::span<const Vec<Dim>> reach,
@@ -62,7 +62,6 @@ private:
   std::size_t first_ = 0, received_ = 0;
   std::size_t position_ = 0;           // the position field's column
   std::vector<std::uint8_t> shifts_;   // each ghost's periodic shift code
-  bool round_ = true;                  // spheres only, or spheres and bounding boxes
   std::vector<Vec<Dim>> reachScratch_; // the owned particles' half-widths, per axis
 };
 
