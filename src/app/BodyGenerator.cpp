@@ -478,19 +478,20 @@ std::vector<BodySummary> generateBodies(const Deck& deck,
 }
 
 template <int Dim>
-std::size_t insertBody(const Deck& deck, const std::vector<materials::Material>& materials,
+BodySummary insertBody(const Deck& deck, const std::vector<materials::Material>& materials,
                        std::size_t b, ParticleId firstId, ParticleStore& store,
                        const ParticleFields<Dim>& f) {
-  const std::vector<Site<Dim>> sites = latticeSites<Dim>(deck, deck.bodies[b]);
+  const BodyConfig& body = deck.bodies[b];
+  const std::vector<Site<Dim>> sites = latticeSites<Dim>(deck, body);
   const std::size_t row = store.appendLocal(sites.size());
   store.zeroRows(row, sites.size());
-  fillBody<Dim>(deck, materials, b, sites, row, firstId, store, f);
+  const double mass = fillBody<Dim>(deck, materials, b, sites, row, firstId, store, f);
   // Its own contact group: frictionless against everything, as bodies that did not touch at
   // t = 0 are.
   if (f.contactGroup.valid())
     for (std::size_t i = row; i < store.localCount(); ++i)
       store[f.contactGroup][i] = static_cast<std::int32_t>(b);
-  return sites.size();
+  return {body.name, sites.size(), mass, body.spacing / deck.run.resolution};
 }
 
 std::string gradedText(const Deck& deck, std::size_t body) {
@@ -548,7 +549,7 @@ void applyEnergySources(const Deck& deck, ParticleStore& store, const ParticleFi
                                                       const std::vector<materials::Material>&,     \
                                                       ParticleStore&, const ParticleFields<D>&);   \
   template void applyEnergySources<D>(const Deck&, ParticleStore&, const ParticleFields<D>&);      \
-  template std::size_t insertBody<D>(const Deck&, const std::vector<materials::Material>&,         \
+  template BodySummary insertBody<D>(const Deck&, const std::vector<materials::Material>&,         \
                                      std::size_t, ParticleId, ParticleStore&,                      \
                                      const ParticleFields<D>&);
 SPALL_INSTANTIATE(1)

@@ -140,15 +140,21 @@ template <int Dim> void Simulation<Dim>::resume(const RestartCandidates& candida
       if (header.dimension != Dim)
         throw UsageError(
             fmt::format("{} holds a {}D run; the deck is {}D", path, header.dimension, Dim));
-      const auto diffs = deckPhysicsDifferences(header.state.text("deck"), deck_.resolved_toml);
+      const std::string before = header.state.text("deck");
+      const auto w = header.state.integers.find("bodies_waiting");
+      const auto free = w == header.state.integers.end()
+                            ? std::vector<std::string>()
+                            : restartFreeTables(before, deck_, w->second, header.time);
+      const auto diffs = deckPhysicsDifferences(before, deck_.resolved_toml, free);
       if (!diffs.empty()) {
         std::string list;
         for (std::size_t d = 0; d < diffs.size() && d < 12; ++d) list += "\n  " + diffs[d];
         if (diffs.size() > 12) list += fmt::format("\n  ... and {} more", diffs.size() - 12);
         throw UsageError(fmt::format(
             "{} was written by a different deck; a restart may change only run.end_time, "
-            "run.max_steps, run.title and the [output], [checkpoint], [decomposition], "
-            "[fragments] and [penetration] tables:{}",
+            "run.max_steps, run.title, the [output], [checkpoint], [decomposition], "
+            "[fragments] and [penetration] tables, and the bodies that have not joined yet "
+            "with the materials only they use:{}",
             path, list));
       }
       const bool sameLayout =
@@ -159,6 +165,7 @@ template <int Dim> void Simulation<Dim>::resume(const RestartCandidates& candida
       const std::uint64_t bytes =
           io::readCheckpointParticles(mpi_.comm(), header, store_, sameLayout);
       restoreState(header, sameLayout);
+      summarizeWaitingBodies();
       checkpointReadSeconds_ = std::chrono::duration<double>(Clock::now() - t0).count();
       checkpointReadBytes_ = mpi_.sum(bytes);
       resumedFrom_ = path;
@@ -174,6 +181,29 @@ template <int Dim> void Simulation<Dim>::resume(const RestartCandidates& candida
             candidates.files.front().parent_path().string(),
             candidates.problem.empty() ? "" : " (" + candidates.problem + ")", skipped));
     }
+  }
+}
+
+// A restart's bodies that have not joined yet are the deck's now (restartFreeTables): their
+// count, mass and spacing made afresh, as a new run makes them. Ids number the bodies in deck
+// order, so a joined body after a waiting one keeps its ids only while that one's count stands.
+template <int Dim> void Simulation<Dim>::summarizeWaitingBodies() {
+  const std::size_t rows = store_.localCount();
+  ParticleId firstBefore = 0, firstNow = 0;
+  for (std::size_t b = 0; b < bodies_.size(); ++b) {
+    const std::size_t before = bodies_[b].particles;
+    if (waiting_[b]) {
+      bodies_[b] = insertBody<Dim>(deck_, materials_, b, firstNow, store_, f_);
+      store_.resizeLocal(rows);
+    } else if (firstNow != firstBefore) {
+      throw UsageError(fmt::format(
+          "body '{}' joined the run before the checkpoint with ids from {}; the bodies that "
+          "have not joined yet listed before it now have {} particles, not {}, which would "
+          "number it from {}: list the bodies that join later after those present",
+          bodies_[b].name, firstBefore, firstNow, firstBefore, firstNow));
+    }
+    firstBefore += before;
+    firstNow += bodies_[b].particles;
   }
 }
 

@@ -101,6 +101,7 @@ private:
   // Simulation.cpp: checkpoint state
   io::CheckpointState saveState(double dtNext, double wall) const;
   void restoreState(const io::CheckpointHeader& h, bool sameLayout);
+  void summarizeWaitingBodies();
   // RunOutput.cpp
   void openLogs(const std::filesystem::path& dir, bool resumed, RunLog& log);
   std::size_t historyBins() const;

@@ -4,6 +4,7 @@
 #include <toml++/toml.h>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <map>
 #include <sstream>
 
@@ -18,6 +19,16 @@ bool mayChangeOnRestart(const std::string& key) {
     if (key == table || key.rfind(table + ".", 0) == 0) return true;
   }
   return false;
+}
+
+// The names of an array of tables' entries, in order ("body", "material").
+std::vector<std::string> entryNames(const toml::table& root, const char* array) {
+  std::vector<std::string> names;
+  if (const auto* a = root.get_as<toml::array>(array))
+    for (const auto& e : *a)
+      if (const auto* t = e.as_table())
+        names.push_back(t->get("name") ? t->get("name")->value_or(std::string()) : std::string());
+  return names;
 }
 
 // Shortest round-trip text for numbers (0.3, not 0.29999999999999999), TOML-like otherwise.
@@ -68,11 +79,17 @@ std::map<std::string, std::string> leaves(const std::string& text) {
 
 } // namespace
 
-std::vector<std::string> deckPhysicsDifferences(const std::string& before, const std::string& now) {
+std::vector<std::string> deckPhysicsDifferences(const std::string& before, const std::string& now,
+                                                const std::vector<std::string>& free) {
   const auto a = leaves(before), b = leaves(now);
+  const auto mayChange = [&](const std::string& key) {
+    for (const auto& table : free)
+      if (key.rfind(table + ".", 0) == 0) return true;
+    return mayChangeOnRestart(key);
+  };
   std::vector<std::string> diffs;
   for (const auto& [k, v] : a) {
-    if (mayChangeOnRestart(k)) continue;
+    if (mayChange(k)) continue;
     const auto it = b.find(k);
     if (it == b.end())
       diffs.push_back(k + ": " + v + " in the checkpoint, absent now");
@@ -80,9 +97,49 @@ std::vector<std::string> deckPhysicsDifferences(const std::string& before, const
       diffs.push_back(k + ": " + v + " in the checkpoint, " + it->second + " now");
   }
   for (const auto& [k, v] : b)
-    if (!mayChangeOnRestart(k) && !a.count(k))
+    if (!mayChange(k) && !a.count(k))
       diffs.push_back(k + ": absent in the checkpoint, " + v + " now");
   return diffs;
+}
+
+std::vector<std::string> restartFreeTables(const std::string& before, const Deck& now,
+                                           const std::vector<std::int64_t>& waiting, double time) {
+  toml::table root;
+  try {
+    root = toml::parse(before);
+  } catch (const toml::parse_error&) {
+    return {}; // deckPhysicsDifferences says the checkpoint's deck is unreadable
+  }
+  // Particles hold their body's and material's index: both lists keep their order.
+  std::vector<std::string> bodies, materials;
+  for (const auto& b : now.bodies) bodies.push_back(b.name);
+  for (const auto& m : now.materials) materials.push_back(m.name);
+  for (const auto& [array, names] : {std::pair{"body", &bodies}, std::pair{"material", &materials}})
+    if (entryNames(root, array) != *names)
+      throw UsageError(fmt::format("the checkpoint's deck has the {}s {}, the deck now {}: a "
+                                   "restart keeps them and their order",
+                                   array, fmt::join(entryNames(root, array), ", "),
+                                   fmt::join(*names, ", ")));
+  if (waiting.size() != bodies.size()) return {}; // restoreState refuses the checkpoint
+  std::vector<std::string> free;
+  std::vector<char> used(materials.size(), 0);
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    const BodyConfig& body = now.bodies[b];
+    if (!waiting[b]) {
+      used[static_cast<std::size_t>(body.material_index)] = 1;
+      continue;
+    }
+    if (time >= body.insert_time * (1.0 - 1e-12))
+      throw DeckError(body.where,
+                      fmt::format("body '{}' has not joined the run at the checkpoint's t = {:g} "
+                                  "s, so it may change, but it must still join after it: "
+                                  "insert_time = {:g} s",
+                                  body.name, time, body.insert_time));
+    free.push_back("body." + body.name);
+  }
+  for (std::size_t m = 0; m < materials.size(); ++m)
+    if (!used[m]) free.push_back("material." + materials[m]);
+  return free;
 }
 
 } // namespace spall

@@ -12,7 +12,10 @@
   boundary and exit 0 with the resume command; the resumed run ends as the uninterrupted one;
 - bad checkpoints (truncated, a flipped data byte, not HDF5, another format version, another
   deck, nothing to restart from) exit 2 on 2 ranks within a timeout (no hang), name the file,
-  and write nothing; `--restart latest` with a corrupt newest file falls back and says so.
+  and write nothing; `--restart latest` with a corrupt newest file falls back and says so;
+- a body that has not joined yet (insert_time) may change on restart: another rod into the
+  checkpointed block equals that rod's run from t = 0 bit for bit; what the checkpoint holds
+  (the block, its material, a rod due before the checkpoint, ids that would move) is refused.
 
 With `long` as the third argument, also the ASPH stretching rod with tensor damage restarted
 mid-failure (12 s of 2 cores; in the fast suite its parts are each restarted elsewhere: ASPH in
@@ -437,6 +440,39 @@ with tempfile.TemporaryDirectory() as tmp:
     check(p.returncode == 0 and "ckpt_000040.h5" in p.stdout and "checksum" in p.stdout + p.stderr,
           f"corrupt newest checkpoint: fell back to ckpt_000040.h5 and said why (exit {p.returncode})")
     same_state(tmp / "full2", fb, "fallback restart")
+
+    # ---- a target shot again: what has not joined the run yet may change ---------------------
+    # The strengthless rod joins at 1 us; the block runs alone to a checkpoint at step 24 (2
+    # ranks). Restarted with a slower rod of a lighter alloy (its body's and its material's keys),
+    # the run equals that rod's run from t = 0 bit for bit, on 1 and on 3 ranks: nothing before a
+    # body joins depends on it. What the checkpoint holds stays refused.
+    hydro = SRC / "decks/rod_penetration_hydro_rz.toml"
+    waits = ["run.resolution=0.5", "body.rod.insert_time=1e-6", "run.end_time=2e-6"]
+    settled = tmp / "settled"
+    run(hydro, 2, settled, [*waits, "run.max_steps=24"])
+    ckpt = settled / "checkpoints" / (latest(settled) or "none")
+    slower = ["body.rod.velocity=[0.0, -2000.0]", "material.tungsten.density=17600"]
+    run(hydro, 1, tmp / "shot_fresh", [*waits, *slower])
+    for ranks in (1, 3):
+        run(hydro, ranks, tmp / f"shot{ranks}", [*waits, *slower], restart=ckpt)
+        same_state(tmp / "shot_fresh", tmp / f"shot{ranks}",
+                   f"another rod into the checkpointed block, restarted on {ranks} rank(s), "
+                   "against that rod's run from t = 0", same_index=False)
+    for label, sets, expect in [
+            ("a joined body's key", ["body.target.velocity=[0.0, 1.0]"],
+             "body.target.velocity: [0, 0] in the checkpoint, [0, 1] now"),
+            ("a joined body's material", ["material.target_metal.density=9000"],
+             "material.target_metal.density: 8930 in the checkpoint, 9000 now"),
+            ("the rod joining before the checkpoint", ["body.rod.insert_time=2e-7"],
+             "rod_penetration_hydro_rz.toml:44:1: error: body 'rod' has not joined the run"),
+            # The rod is listed first: its count numbers the block's ids.
+            ("a shorter rod before the block",
+             ['body.rod.shape={type="box", min=[0.0, 0.0], max=[2.0e-3, 20.0e-3]}'],
+             "list the bodies that join later after those present")]:
+        out = tmp / f"shot_refused_{len(label)}"
+        p = run(hydro, 2, out, [*waits, *sets], restart=ckpt, expect=2)
+        check(p is not None and expect in p.stderr and not out.exists(),
+              f"restart with {label}: exit 2 saying '{expect}', nothing written")
 
 print(f"\n{len(failures)} failure(s)")
 sys.exit(1 if failures else 0)

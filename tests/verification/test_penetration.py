@@ -31,7 +31,9 @@ exact answers, across rank counts and restarts, and hydrodynamic penetration aga
 
 The fast suite runs 1, 2 and the SPH copper pair of 3 on a block graded from the axis with time
 bins, as the full-size decks are built (9.3k particles against the uniform block's 21k, a third
-of the cost: U/U_B 0.958 against 0.957); `long` adds the uniform block, the aluminium pair and the
+of the cost: U/U_B 0.958 against 0.957), and the copper pair with MPM from 4 rod diameters in
+(9.5 us) to 20 us within 3% (issue 65's bound there; measured 0.984, SPH over the same window
+0.979: the 2-16 us window's 0.957 holds the impact's transient); `long` adds the uniform block, the aluminium pair and the
 three MPM runs. The aluminium pair is the copper pair's code with another density ratio (and
 the wider margin, -0.9% against -4.3%): the copper run guards the rate against Bernoulli in the
 fast suite. MPM's penetration has its own decks and studies; its transfers and contact are
@@ -196,6 +198,20 @@ def bernoulli(tmp):
         check(abs(ratio - 1.0) <= 0.05,
               f"tungsten into {name} (rho_p/rho_t {r['rho_p'] / r['rho_t']:.2f}), rz: steady "
               f"U = {r['U']:.0f} m/s, U/U_B = {ratio:.3f} (bound 5%; the issue's goal 3%)")
+    # MPM in rz once the rod is 4 diameters in (issue 65: within 3% of U_B there; 16 mm by
+    # 9.5 us), to 20 us, before the block's back (50 mm) is felt: measured 0.984 (SPH 0.979 over
+    # the same window); ~10 s on 2 ranks, MPM's 1.5k steps against SPH's 7k.
+    out = tmp / "hydro_copper_MPM_4D"
+    if run(HYDRO, out, "solver.method=mpm", "run.end_time=20e-6", ranks=2):
+        p = subprocess.run([str(SRC / "tools/penetration"), str(out), "--json", "--window", "9.5",
+                            "20"], capture_output=True, text=True)
+        if p.returncode != 0:
+            check(False, f"tools/penetration {out.name}: {p.stderr}")
+        else:
+            ratio = json.loads(p.stdout)["runs"][0]["U_over_U_bernoulli"]
+            check(abs(ratio - 1.0) <= 0.03,
+                  f"tungsten into copper, MPM (one field, cpGIMP), rz, 4 to 12 rod diameters in: "
+                  f"U/U_B = {ratio:.3f} (bound 3%)")
     if "copper, MPM" in ratios and "copper, MPM frictionless" in ratios:
         welded, slid = ratios["copper, MPM"], ratios["copper, MPM frictionless"]
         check(abs(slid - welded) <= 0.02,

@@ -31,9 +31,9 @@ std::vector<BodySummary> generateBodies(const Deck& deck,
                                         ParticleStore& store, const ParticleFields<Dim>& f);
 
 // Appends body b's particles to the owned rows, ids from firstId (the t = 0 numbering), as
-// generateBodies made them; every other field zero. Returns the count.
+// generateBodies made them; every other field zero. Returns its summary, as generateBodies's.
 template <int Dim>
-std::size_t insertBody(const Deck& deck, const std::vector<materials::Material>& materials,
+BodySummary insertBody(const Deck& deck, const std::vector<materials::Material>& materials,
                        std::size_t b, ParticleId firstId, ParticleStore& store,
                        const ParticleFields<Dim>& f);
 

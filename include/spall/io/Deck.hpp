@@ -409,8 +409,19 @@ Deck loadDeck(const std::string& path, const std::vector<std::string>& overrides
 
 // What differs between two resolved decks in the keys that shape the physics, one line per key
 // ("solver.cfl: 0.3 before, 0.25 now"). A restart may change only run.end_time, run.max_steps,
-// run.title and the [output], [checkpoint] and [decomposition] tables; everything else must be
-// as the checkpoint was written. Array-of-tables entries are matched by their `name`.
-std::vector<std::string> deckPhysicsDifferences(const std::string& before, const std::string& now);
+// run.title, the [output], [checkpoint], [decomposition], [fragments] and [penetration] tables
+// and the tables in `free` ("body.rod": restartFreeTables); everything else must be as the
+// checkpoint was written. Array-of-tables entries are matched by their `name`.
+std::vector<std::string> deckPhysicsDifferences(const std::string& before, const std::string& now,
+                                                const std::vector<std::string>& free = {});
+
+// What a restart may change besides: every key of a body that has not joined the run at the
+// checkpoint's `time` (`waiting`, by body, as the checkpoint has it) and joins after it in `now`,
+// and of a material no joined body uses. A settled target is shot again with another rod, speed
+// or material without its pre-stress again. Throws UsageError when the bodies or materials (by
+// name, in order) differ from the checkpoint's deck `before`, DeckError when a waiting body's
+// insert_time is not after `time`.
+std::vector<std::string> restartFreeTables(const std::string& before, const Deck& now,
+                                           const std::vector<std::int64_t>& waiting, double time);
 
 } // namespace spall

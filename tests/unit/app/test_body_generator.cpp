@@ -188,9 +188,13 @@ spacing = 0.1
   // Rows left by earlier particles must not leak into the new ones.
   g.store.appendGhosts(80);
   for (std::size_t i = 100; i < 180; ++i) g.store[g.f.e][i] = 123.0;
-  const std::size_t n = app::insertBody<2>(waitingDeck, {{materials::IdealGas{1.4}, std::nullopt}},
-                                           0, 0, g.store, g.f);
-  ASSERT_EQ(n, 50u);
+  const app::BodySummary made = app::insertBody<2>(
+      waitingDeck, {{materials::IdealGas{1.4}, std::nullopt}}, 0, 0, g.store, g.f);
+  // The summary a new run makes of the body (count, mass and spacing: a restart's waiting body).
+  ASSERT_EQ(made.particles, 50u);
+  EXPECT_EQ(made.mass, all.bodies[0].mass);
+  EXPECT_EQ(made.spacing, all.bodies[0].spacing);
+  EXPECT_EQ(made.name, all.bodies[0].name);
   ASSERT_EQ(g.store.localCount(), 150u);
   for (std::size_t k = 0; k < 50; ++k) {
     const std::size_t i = 100 + k; // appended after the owned rows; generated first in `all`
