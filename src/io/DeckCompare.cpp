@@ -104,26 +104,27 @@ std::vector<std::string> deckPhysicsDifferences(const std::string& before, const
 
 std::vector<std::string> restartFreeTables(const std::string& before, const Deck& now,
                                            const std::vector<std::int64_t>& waiting, double time) {
-  toml::table root;
+  toml::table root, rootNow;
   try {
     root = toml::parse(before);
+    rootNow = toml::parse(now.resolved_toml);
   } catch (const toml::parse_error&) {
     return {}; // deckPhysicsDifferences says the checkpoint's deck is unreadable
   }
-  // Particles hold their body's and material's index: both lists keep their order.
-  std::vector<std::string> bodies, materials;
-  for (const auto& b : now.bodies) bodies.push_back(b.name);
-  for (const auto& m : now.materials) materials.push_back(m.name);
-  for (const auto& [array, names] : {std::pair{"body", &bodies}, std::pair{"material", &materials}})
-    if (entryNames(root, array) != *names)
-      throw UsageError(fmt::format("the checkpoint's deck has the {}s {}, the deck now {}: a "
+  // Particles hold their body's and material's index: both lists keep their order (the deck's
+  // own [[body]] and [[material]] entries; a [[jet]]'s bodies follow them as its table says).
+  for (const auto& [array, plural] :
+       {std::pair{"body", "bodies"}, std::pair{"material", "materials"}})
+    if (entryNames(root, array) != entryNames(rootNow, array))
+      throw UsageError(fmt::format("the checkpoint's deck has the {} {}, the deck now {}: a "
                                    "restart keeps them and their order",
-                                   array, fmt::join(entryNames(root, array), ", "),
-                                   fmt::join(*names, ", ")));
-  if (waiting.size() != bodies.size()) return {}; // restoreState refuses the checkpoint
+                                   plural, fmt::join(entryNames(root, array), ", "),
+                                   fmt::join(entryNames(rootNow, array), ", ")));
+  const std::size_t bodies = now.bodies.size(), materials = now.materials.size();
+  if (waiting.size() != bodies) return {}; // restoreState refuses the checkpoint
   std::vector<std::string> free;
-  std::vector<char> used(materials.size(), 0);
-  for (std::size_t b = 0; b < bodies.size(); ++b) {
+  std::vector<char> used(materials, 0);
+  for (std::size_t b = 0; b < bodies; ++b) {
     const BodyConfig& body = now.bodies[b];
     if (!waiting[b]) {
       used[static_cast<std::size_t>(body.material_index)] = 1;
@@ -137,8 +138,8 @@ std::vector<std::string> restartFreeTables(const std::string& before, const Deck
                                   body.name, time, body.insert_time));
     free.push_back("body." + body.name);
   }
-  for (std::size_t m = 0; m < materials.size(); ++m)
-    if (!used[m]) free.push_back("material." + materials[m]);
+  for (std::size_t m = 0; m < materials; ++m)
+    if (!used[m]) free.push_back("material." + now.materials[m].name);
   return free;
 }
 

@@ -12,7 +12,10 @@
   is reported, the sweep exits 1, and the next sweep leaves it alone;
 - --dry-run prints one `spall run` per value with the value's --set; keys joined by '&' move
   together (one run per point, not per combination), a point short of a part exits 2;
-- `tools/penetration OUT` reads the sweep's runs in its order.
+- `tools/penetration OUT` reads the sweep's runs in its order;
+- --from CHECKPOINT: the block alone, checkpointed while the rod waits (insert_time), shot at two
+  speeds from that checkpoint; each run's penetration.csv equals its run from t = 0 byte for
+  byte, and its history starts after the checkpoint's step.
 
 usage: test_sweep.py SPALL SOURCE_DIR
 """
@@ -158,6 +161,36 @@ def main(tmp):
           (out / "sweep.json").read_text() == before,
           f"another sweep into the same directory: exit {p.returncode}, refused, unchanged "
           f"({p.stderr.strip()})")
+
+    # --from: the rod listed after the block and joining at 2 us; the block alone to step 20.
+    waiting = DECK.replace('velocity = [0.0, -2000.0]\n', 'velocity = [0.0, -2000.0]\n'
+                           'insert_time = 2.0e-6\n')
+    rod = waiting[waiting.index("[[body]]\nname = \"rod\""):waiting.index("[[body]]\nname = \"block\"")]
+    waiting = waiting.replace(rod, "").replace("[output]", rod + "[output]")
+    deck2 = tmp / "rod_waits.toml"
+    deck2.write_text(waiting)
+    settled = tmp / "settled"
+    subprocess.run([SPALL, "run", str(deck2), "--output", str(settled), "--quiet", "--set",
+                    "run.max_steps=20"], check=True, env=ENV, stdin=subprocess.DEVNULL)
+    ckpt = settled / "checkpoints" / (settled / "checkpoints" / "latest").read_text().strip()
+    shots = tmp / "shots"
+    p = subprocess.run(sweep(deck2, shots, "--from", str(ckpt), "--set", "run.end_time=8e-6"),
+                       capture_output=True, text=True, env=ENV)
+    check(p.returncode == 0 and p.stdout.count(f"started from {ckpt}") == 2,
+          f"--from: both runs started from the checkpoint (exit {p.returncode})\n"
+          f"{p.stdout[-800:]}{p.stderr[-800:]}")
+    for n, v in zip(names, ["[0,-1500]", "[0,-2500]"]):
+        ref = tmp / f"fresh_{n}"
+        subprocess.run([SPALL, "run", str(deck2), "--output", str(ref), "--quiet", "--set",
+                        f"body.rod.velocity={v}", "--set", "run.end_time=8e-6"], check=True,
+                       env=ENV, stdin=subprocess.DEVNULL)
+        shot = shots / n
+        first = (shot / "history.csv").read_text().splitlines()[1].split(",")[0] \
+            if (shot / "history.csv").exists() else "none"
+        same = (shot / "penetration.csv").exists() and \
+            (ref / "penetration.csv").read_bytes() == (shot / "penetration.csv").read_bytes()
+        check(same and first.isdigit() and int(first) > 20,
+              f"--from, {n}: penetration.csv equals the run from t = 0; history from step {first}")
 
     bad = tmp / "bad"
     args = [str(SWEEP), str(deck), "--out", str(bad), "--spall", SPALL,
