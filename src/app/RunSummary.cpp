@@ -269,6 +269,7 @@ void Simulation<Dim>::writeSummary(const RunReport& r, const RunOptions& options
   checkpoint["read_seconds"] = round6(checkpointReadSeconds_);
   checkpoint["read_bytes"] = checkpointReadBytes_;
   checkpoint["restarted_from"] = resumedFrom_;
+  checkpoint["changed_on_restart"] = restartChanges_; // the bodies that had not joined yet
   checkpoint["ranks_written"] = checkpointRanks_;
   Json decomposition;
   decomposition["curve"] = std::string(kCurveNames(deck_.decomposition.curve));

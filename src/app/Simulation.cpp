@@ -145,7 +145,9 @@ template <int Dim> void Simulation<Dim>::resume(const RestartCandidates& candida
       const auto free = w == header.state.integers.end()
                             ? std::vector<std::string>()
                             : restartFreeTables(before, deck_, w->second, header.time);
-      const auto diffs = deckPhysicsDifferences(before, deck_.resolved_toml, free);
+      restartChanges_.clear();
+      const auto diffs =
+          deckPhysicsDifferences(before, deck_.resolved_toml, free, &restartChanges_);
       if (!diffs.empty()) {
         std::string list;
         for (std::size_t d = 0; d < diffs.size() && d < 12; ++d) list += "\n  " + diffs[d];
@@ -388,6 +390,10 @@ template <int Dim> void Simulation<Dim>::runSteps(const RunOptions& options, con
                                         : fmt::format(", written on {} rank{}", checkpointRanks_,
                                                       checkpointRanks_ > 1 ? "s" : ""),
         checkpointReadBytes_ / 1e6, checkpointReadSeconds_));
+  if (resumed && !restartChanges_.empty())
+    log.note(fmt::format("the bodies that had not joined the run differ from the checkpoint's "
+                         "deck:\n  {}",
+                         fmt::join(restartChanges_, "\n  ")));
 
   StopSignals signals;
   double dt = 0.0;

@@ -157,7 +157,8 @@ private:
   int snapshotIndex_ = 0;
   std::size_t baselineRss_ = 0;
   // Restart chain bookkeeping.
-  std::string resumedFrom_;    // checkpoint this run continued from ("" for a new run)
+  std::string resumedFrom_;                 // checkpoint this run continued from ("" for a new run)
+  std::vector<std::string> restartChanges_; // the waiting bodies' keys that differ from it
   double resumeDt_ = 0.0;      // the time step the checkpointed run would have taken next
   double wallOffset_ = 0.0;    // wall seconds of the chain before this job
   std::int64_t startStep_ = 0; // first step of this job

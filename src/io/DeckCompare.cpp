@@ -80,25 +80,31 @@ std::map<std::string, std::string> leaves(const std::string& text) {
 } // namespace
 
 std::vector<std::string> deckPhysicsDifferences(const std::string& before, const std::string& now,
-                                                const std::vector<std::string>& free) {
+                                                const std::vector<std::string>& free,
+                                                std::vector<std::string>* freeChanges) {
   const auto a = leaves(before), b = leaves(now);
-  const auto mayChange = [&](const std::string& key) {
+  const auto isFree = [&](const std::string& key) {
     for (const auto& table : free)
       if (key.rfind(table + ".", 0) == 0) return true;
-    return mayChangeOnRestart(key);
+    return false;
   };
   std::vector<std::string> diffs;
+  const auto differs = [&](const std::string& key, const std::string& line) {
+    if (isFree(key)) {
+      if (freeChanges) freeChanges->push_back(line);
+    } else if (!mayChangeOnRestart(key)) {
+      diffs.push_back(line);
+    }
+  };
   for (const auto& [k, v] : a) {
-    if (mayChange(k)) continue;
     const auto it = b.find(k);
     if (it == b.end())
-      diffs.push_back(k + ": " + v + " in the checkpoint, absent now");
+      differs(k, k + ": " + v + " in the checkpoint, absent now");
     else if (it->second != v)
-      diffs.push_back(k + ": " + v + " in the checkpoint, " + it->second + " now");
+      differs(k, k + ": " + v + " in the checkpoint, " + it->second + " now");
   }
   for (const auto& [k, v] : b)
-    if (!mayChange(k) && !a.count(k))
-      diffs.push_back(k + ": absent in the checkpoint, " + v + " now");
+    if (!a.count(k)) differs(k, k + ": absent in the checkpoint, " + v + " now");
   return diffs;
 }
 

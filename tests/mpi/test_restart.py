@@ -458,6 +458,12 @@ with tempfile.TemporaryDirectory() as tmp:
         same_state(tmp / "shot_fresh", tmp / f"shot{ranks}",
                    f"another rod into the checkpointed block, restarted on {ranks} rank(s), "
                    "against that rod's run from t = 0", same_index=False)
+    summary = tmp / "shot1" / "summary.json"
+    changed = json.loads(summary.read_text())["checkpoint"].get("changed_on_restart") \
+        if summary.exists() else None
+    check(changed == ["body.rod.velocity: [0, -3000] in the checkpoint, [0, -2000] now",
+                      "material.tungsten.density: 19300 in the checkpoint, 17600 now"],
+          f"summary.json says what the restart changed: {changed}")
     for label, sets, expect in [
             ("a joined body's key", ["body.target.velocity=[0.0, 1.0]"],
              "body.target.velocity: [0, 0] in the checkpoint, [0, 1] now"),

@@ -411,9 +411,11 @@ Deck loadDeck(const std::string& path, const std::vector<std::string>& overrides
 // ("solver.cfl: 0.3 before, 0.25 now"). A restart may change only run.end_time, run.max_steps,
 // run.title, the [output], [checkpoint], [decomposition], [fragments] and [penetration] tables
 // and the tables in `free` ("body.rod": restartFreeTables); everything else must be as the
-// checkpoint was written. Array-of-tables entries are matched by their `name`.
+// checkpoint was written. Array-of-tables entries are matched by their `name`. The differences
+// in `free` go to `freeChanges`, when given (what the restart changed, for its log).
 std::vector<std::string> deckPhysicsDifferences(const std::string& before, const std::string& now,
-                                                const std::vector<std::string>& free = {});
+                                                const std::vector<std::string>& free = {},
+                                                std::vector<std::string>* freeChanges = nullptr);
 
 // What a restart may change besides: every key of a body that has not joined the run at the
 // checkpoint's `time` (`waiting`, by body, as the checkpoint has it) and joins after it in `now`,
