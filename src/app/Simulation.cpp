@@ -529,7 +529,7 @@ template <int Dim> std::pair<double, double> Simulation<Dim>::clampToTargets(dou
 template <int Dim> void Simulation<Dim>::insertDueBodies() {
   std::vector<std::size_t> due;
   for (std::size_t b = 0; b < waiting_.size(); ++b)
-    if (waiting_[b] && time_ >= deck_.bodies[b].insert_time * (1.0 - 1e-12)) due.push_back(b);
+    if (waiting_[b] && deck_.bodies[b].joinedBy(time_)) due.push_back(b);
   if (due.empty()) return;
   const diagnostics::Totals before = diagnostics::computeTotals(store_, f_, mpi_);
   const std::size_t first = store_.localCount();

@@ -136,7 +136,7 @@ std::vector<std::string> restartFreeTables(const std::string& before, const Deck
       used[static_cast<std::size_t>(body.material_index)] = 1;
       continue;
     }
-    if (time >= body.insert_time * (1.0 - 1e-12))
+    if (body.joinedBy(time))
       throw DeckError(body.where,
                       fmt::format("body '{}' has not joined the run at the checkpoint's t = {:g} "
                                   "s, so it may change, but it must still join after it: "

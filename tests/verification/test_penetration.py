@@ -172,6 +172,16 @@ def ranks_and_restart(tmp):
           "stopped after 70 steps and restarted (2 ranks): penetration.csv identical")
 
 
+def steady_run(out, window):
+    """tools/penetration's figures of OUT over the window (us), or None (a failed check)."""
+    p = subprocess.run([str(SRC / "tools/penetration"), str(out), "--json", "--window",
+                        *window], capture_output=True, text=True)
+    if p.returncode != 0:
+        check(False, f"tools/penetration {out.name}: {p.stderr}")
+        return None
+    return json.loads(p.stdout)["runs"][0]
+
+
 def bernoulli(tmp):
     aluminium = ["material.target_metal.density=2700",
                  'material.target_metal.eos={type="mie_gruneisen",c0=5350.0,s=1.34,gamma0=2.0}']
@@ -187,13 +197,9 @@ def bernoulli(tmp):
         out = tmp / f"hydro_{name.replace(', ', '_').replace(' ', '_')}"
         if not run(HYDRO, out, *sets, "run.end_time=16e-6", ranks=2):
             continue
-        p = subprocess.run([str(SRC / "tools/penetration"), str(out), "--json", "--window", "2",
-                            "16"],
-                           capture_output=True, text=True)
-        if p.returncode != 0:
-            check(False, f"tools/penetration {out.name}: {p.stderr}")
+        r = steady_run(out, ("2", "16"))
+        if r is None:
             continue
-        r = json.loads(p.stdout)["runs"][0]
         ratio = ratios[name] = r["U_over_U_bernoulli"]
         check(abs(ratio - 1.0) <= 0.05,
               f"tungsten into {name} (rho_p/rho_t {r['rho_p'] / r['rho_t']:.2f}), rz: steady "
@@ -202,16 +208,13 @@ def bernoulli(tmp):
     # 9.5 us), to 20 us, before the block's back (50 mm) is felt: measured 0.984 (SPH 0.979 over
     # the same window); ~10 s on 2 ranks, MPM's 1.5k steps against SPH's 7k.
     out = tmp / "hydro_copper_MPM_4D"
-    if run(HYDRO, out, "solver.method=mpm", "run.end_time=20e-6", ranks=2):
-        p = subprocess.run([str(SRC / "tools/penetration"), str(out), "--json", "--window", "9.5",
-                            "20"], capture_output=True, text=True)
-        if p.returncode != 0:
-            check(False, f"tools/penetration {out.name}: {p.stderr}")
-        else:
-            ratio = json.loads(p.stdout)["runs"][0]["U_over_U_bernoulli"]
-            check(abs(ratio - 1.0) <= 0.03,
-                  f"tungsten into copper, MPM (one field, cpGIMP), rz, 4 to 12 rod diameters in: "
-                  f"U/U_B = {ratio:.3f} (bound 3%)")
+    r = steady_run(out, ("9.5", "20")) \
+        if run(HYDRO, out, "solver.method=mpm", "run.end_time=20e-6", ranks=2) else None
+    if r is not None:
+        ratio = r["U_over_U_bernoulli"]
+        check(abs(ratio - 1.0) <= 0.03,
+              f"tungsten into copper, MPM (one field, cpGIMP), rz, 4 to 12 rod diameters in: "
+              f"U/U_B = {ratio:.3f} (bound 3%)")
     if "copper, MPM" in ratios and "copper, MPM frictionless" in ratios:
         welded, slid = ratios["copper, MPM"], ratios["copper, MPM frictionless"]
         check(abs(slid - welded) <= 0.02,

@@ -286,6 +286,9 @@ struct BodyConfig {
   double jitter = 0.0; // fraction of the spacing
   std::optional<RadialVelocityConfig> radial_velocity;
   double insert_time = 0.0;
+  // Whether a body waiting for its insert_time has joined by `time` (the step before it lands on
+  // insert_time, within round-off).
+  bool joinedBy(double time) const { return time >= insert_time * (1.0 - 1e-12); }
   std::optional<std::vector<std::vector<double>>> lattice_transform; // dimension x dimension
   bool allow_overlap = false; // may overlap bodies listed before it
   std::optional<CantileverVelocityConfig> cantilever_velocity;
