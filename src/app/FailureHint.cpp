@@ -8,7 +8,8 @@ std::string failureHint(const FailureSigns& s) {
   // Squeezed, or flung faster than any impact here (100 km/s).
   const bool wild = s.compression > 2.0 || s.speed > 1e5;
   if (s.mpm && s.frictionless && (wild || s.nonFinite))
-    return "hint: with MPM and solver.contact = \"frictionless\", a point of one body amid "
+    return "hint: with MPM and a velocity field per body (solver.contact = \"frictionless\" or "
+           "\"friction\"), a point of one body amid "
            "another's material (debris) can be squeezed or flung: its field's nodes are held "
            "where they move toward the other body, not where they move away. One velocity "
            "field (\"welded\" or \"auto\") cannot do this; see decks/topics/mpm.md";

@@ -203,7 +203,7 @@ std::string Simulation<Dim>::failureText(const StepFailure& failure,
   FailureSigns signs;
   signs.mpm = deck_.solver.method == SolverMethod::Mpm;
   signs.asph = deck_.solver.method == SolverMethod::Asph;
-  signs.frictionless = deck_.solver.contact == Contact::Frictionless;
+  signs.frictionless = fieldPerBody(deck_.solver.contact);
   signs.nonFinite = f.kind == ParticleReport::Kind::NonFinite;
   signs.energy = f.kind == ParticleReport::Kind::Energy;
   signs.dimension = Dim;

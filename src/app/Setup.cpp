@@ -176,7 +176,7 @@ std::vector<std::unique_ptr<methods::Module<Dim>>> buildModules(const Deck& deck
     list.push_back(std::make_unique<methods::SmoothingTensor<Dim>>());
   // MPM: "auto" is the grid's single velocity field (Uintah's default; the multi-field contact
   // is the explicit "frictionless": decks/topics/mpm.md).
-  if (solver.contact == Contact::Frictionless || (solver.contact == Contact::Auto && !mpm))
+  if (fieldPerBody(solver.contact) || (solver.contact == Contact::Auto && !mpm))
     list.push_back(std::make_unique<methods::FrictionlessContact<Dim>>());
   std::vector<typename methods::ConfiningPressure<Dim>::Load> loads;
   for (const auto& b : deck.boundaries)
@@ -251,9 +251,15 @@ std::string methodSummary(const Deck& deck) {
   const auto& s = deck.solver;
   if (s.method == SolverMethod::Mpm) {
     const auto m = methodSetup(deck).solver.mpm;
-    return fmt::format("mpm {} cell {:.4g} m {}", kMpmShapeNames(m.shape), m.cell_size,
+    // The contact: "auto" is one field for MPM, as "welded".
+    const std::string contact =
+        s.contact == Contact::Friction
+            ? fmt::format("friction {:g}", m.friction)
+            : std::string(kContactNames(s.contact == Contact::Auto ? Contact::Welded : s.contact));
+    return fmt::format("mpm {} cell {:.4g} m {} | contact {}", kMpmShapeNames(m.shape), m.cell_size,
                        m.transfer == MpmTransfer::Apic ? std::string("apic")
-                                                       : fmt::format("flip {:g}", m.flip));
+                                                       : fmt::format("flip {:g}", m.flip),
+                       contact);
   }
   return fmt::format("{} {} n_h {:g} | density {}", kSolverMethodNames(s.method),
                      kKernelNames(s.kernel), s.nodes_per_h, kDensityNames(s.density));

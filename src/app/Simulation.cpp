@@ -43,7 +43,7 @@ Simulation<Dim>::Simulation(const Deck& deck, const parallel::MpiContext& mpi)
   decomposition_ =
       std::make_unique<parallel::Decomposition<Dim>>(mpi.comm(), dc, f_.id, f_.x, cost_);
   methods::MethodSetup setup = methodSetup(deck);
-  if (deck.solver.method == SolverMethod::Mpm && deck.solver.contact == Contact::Frictionless)
+  if (deck.solver.method == SolverMethod::Mpm && fieldPerBody(deck.solver.contact))
     warnThinBodies(setup.solver.mpm.cell_size);
   setup.note = [this](const std::string& line) {
     if (log_) log_->note(line);
@@ -94,9 +94,10 @@ Simulation<Dim>::Simulation(const Deck& deck, const parallel::MpiContext& mpi)
         "(decks/topics/solids.md, \"Time bins\")",
         deck_.solver.where.file, deck_.solver.where.line));
   // With the plain SPH velocity gradient a solid's strain rate under-reads where the support is
-  // cut, and a confined body settles with stresses off the load (decks/README.md).
+  // cut, and a confined body settles with stresses off the load (decks/README.md). MPM's
+  // gradient is the grid's: no such key.
   for (const auto& b : deck_.boundaries)
-    if (b.type == BoundaryType::Pressure &&
+    if (deck_.solver.method != SolverMethod::Mpm && b.type == BoundaryType::Pressure &&
         !deck_
              .materials[static_cast<std::size_t>(
                  deck_.bodies[static_cast<std::size_t>(b.bodyIndex)].material_index)]
@@ -488,10 +489,11 @@ template <int Dim> void Simulation<Dim>::warnThinBodies(double cell) {
   }
   if (thin.empty()) return;
   deferredWarnings_.push_back(fmt::format(
-      "{}:{}: solver.contact = \"frictionless\" with MPM acts where the bodies' material fills "
+      "{}:{}: solver.contact = \"{}\" with MPM acts where the bodies' material fills "
       "90% of a node's support: bodies under 2 cells ({:.3g} m) across can pass through others "
       "unstopped ({}); a finer run.resolution or contact \"welded\" (decks/topics/mpm.md)",
-      deck_.solver.where.file, deck_.solver.where.line, 2.0 * cell, fmt::join(thin, ", ")));
+      deck_.solver.where.file, deck_.solver.where.line, kContactNames(deck_.solver.contact),
+      2.0 * cell, fmt::join(thin, ", ")));
 }
 
 // The method's stable step; a step below kCollapse of the end time is a collapse.

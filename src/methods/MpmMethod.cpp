@@ -129,6 +129,11 @@ template <int Dim> double MpmMethod<Dim>::advance(double dt, std::int64_t step, 
   if (loaded_) stats_.phases.time(kBoundaries, [&] { loads(time); });
   const auto P = particles();
   stats_.phases.time(kForces, [&] { grid_->project(P, order_, dt); });
+  // Friction's work, the kinetic energy the contact took from sliding fields, as heat.
+  if (!P.heat.empty()) {
+    const auto e = s_[f_.e];
+    for (std::size_t i = 0; i < s_.localCount(); ++i) e[i] += heat_[i];
+  }
   if (loaded_) {
     // The loads act through the whole step as the state at t_n set them (not the leapfrog's
     // two half-kicks): the step's work is dt times their power, with the points' new
@@ -394,8 +399,13 @@ template <int Dim> solvers::MpmParticles<Dim> MpmMethod<Dim>::particles() {
   if (f_.viscousPressure.valid()) P.q = s_[f_.viscousPressure].first(rows);
   if (f_.affine.valid()) P.affine = s_[f_.affine].first(rows);
   P.owned = s_.localCount();
-  // contact "frictionless": a velocity field per body (solvers/MpmGrid; "auto" is one field).
+  // contact "frictionless" or "friction": a velocity field per body (solvers/MpmGrid; "auto" is
+  // one field).
   if (f_.contactGroup.valid()) P.field = s_[f_.contactGroup].first(rows);
+  if (setup_.solver.contact == Contact::Friction) {
+    heat_.assign(P.owned, 0.0);
+    P.heat = heat_;
+  }
   if (loaded_) P.aExt = s_[f_.a].first(rows);
   if (!fixedBodies_.empty()) P.rigid = fixedRow_;
   if (f_.confiningPressure.valid()) {

@@ -1,6 +1,6 @@
 #pragma once
 // The grid's velocity fields with contact (MpmGrid.hpp, "Contact"): each node's fields as a
-// list in ascending field, and the frictionless correction where they meet.
+// list in ascending field, and the correction where they meet (frictionless or Coulomb's).
 #include "MpmGridImpl.hpp"
 
 #include <numbers>
@@ -39,13 +39,28 @@ void Grid<Dim, Shape>::numberFields(const MpmParticles<Dim>& P, std::size_t rows
   }
 }
 
-// Frictionless contact at every node where fields meet (MpmGrid.hpp): a field moving toward
-// the node's centre of mass along its outward normal loses that part of its velocity, where
-// the fields' material covers the node's support (sum_p S_Ip V_p >= kCovered of its volume).
-// Without that check the fields meet one to two cells before their surfaces do (their
-// supports overlap across the gap), and the early stop of the surface layers, released as
-// they part, gave the colliding disks +6% of energy; with it, +1.7% at most (decks/README).
-template <int Dim, MpmShape Shape> void Grid<Dim, Shape>::contact(std::vector<Vec<Dim>>& v) const {
+// Contact at every node where fields meet (MpmGrid.hpp): a field moving toward the node's
+// centre of mass along its outward normal loses that part of its velocity, where the fields'
+// material covers the node's support (sum_p S_Ip V_p >= kCovered of its volume). Without that
+// check the fields meet one to two cells before their surfaces do (their supports overlap
+// across the gap), and the early stop of the surface layers, released as they part, gave the
+// colliding disks +6% of energy; with it, +1.7% at most (decks/README).
+// With Coulomb friction mu (Bardenhagen, Brackbill & Sulsky 2000), a field sliding relative to
+// the centre of mass at u_t also loses min(mu (approach), |u_t|) of it along u_t:
+// the tangential impulse at most mu times the normal one, beyond which the field sticks. With
+// `heat`, friction's work is added there (J) for the field's points to take up as internal
+// energy: the impulse J_t = m (u_t - u_t') times the slide it acts across. Without `start` (the
+// correction of the step's starting velocities) that is the mean of the slides before and
+// after, J_t . (u_t + u_t') / 2, the kinetic energy the correction takes. After the force,
+// (`start`: the velocities before it, corrected), it is the mean of the slides at the step's
+// start and end: the force's own tangential push at an interface node (the body's shear,
+// which the friction takes back in the same step) is no slide. With the kinetic energy taken
+// instead, a block sliding to rest under load booked 1.19 times the energy it lost, and a
+// sticking one kept heating (decks/topics/mpm.md).
+template <int Dim, MpmShape Shape>
+void Grid<Dim, Shape>::contact(std::vector<Vec<Dim>>& v, std::vector<double>* heat,
+                               const std::vector<Vec<Dim>>* start) const {
+  const double mu = c_.friction;
   for (std::size_t I = 0; I < key_.size(); ++I) {
     const std::uint32_t first = head_[I];
     if (next_[first] == kNone) continue; // one field: nothing to correct
@@ -66,6 +81,12 @@ template <int Dim, MpmShape Shape> void Grid<Dim, Shape>::contact(std::vector<Ve
     if (!rigid_.empty())
       for (std::uint32_t b = first; b != kNone && held == kNone; b = next_[b])
         if (rigid_[b]) held = b, vcm = v[b];
+    // The reference at the step's start (the same mass weights, or the held field's velocity).
+    Vec<Dim> vcm0 = Vec<Dim>::Zero();
+    if (heat && start) {
+      for (std::uint32_t b = first; b != kNone; b = next_[b]) vcm0 += mass_[b] * (*start)[b];
+      vcm0 = held == kNone ? Vec<Dim>(vcm0 / M) : (*start)[held];
+    }
     const Vec<Dim> X = place(key_[I]);
     for (std::uint32_t b = first; b != kNone; b = next_[b]) {
       Vec<Dim> n = 2.0 * gradV_[b] - G;
@@ -81,8 +102,27 @@ template <int Dim, MpmShape Shape> void Grid<Dim, Shape>::contact(std::vector<Ve
       const double length = n.norm();
       if (b == held || !(mass_[b] > 0.0) || !(length > 0.0)) continue;
       n /= length;
-      const double approach = (v[b] - vcm).dot(n);
-      if (approach > 0.0) v[b] -= approach * n;
+      const Vec<Dim> u = v[b] - vcm;
+      const double approach = u.dot(n);
+      if (!(approach > 0.0)) continue;
+      v[b] -= approach * n;
+      if (!(mu > 0.0)) continue;
+      const Vec<Dim> ut = u - approach * n;
+      const double slide = ut.norm();
+      if (!(slide > 0.0)) continue;
+      const double kept = std::max(0.0, 1.0 - mu * approach / slide); // 0: it sticks
+      v[b] -= (1.0 - kept) * ut;
+      if (!heat) continue;
+      const Vec<Dim> J = mass_[b] * (1.0 - kept) * ut;
+      const double taken = 0.5 * J.dot((1.0 + kept) * ut); // J . (u_t + u_t') / 2
+      if (!start) {
+        (*heat)[b] += taken;
+        continue;
+      }
+      Vec<Dim> u0 = (*start)[b] - vcm0;
+      u0 -= u0.dot(n) * n;
+      // At most the kinetic energy taken; none where the force turned the slide around.
+      (*heat)[b] += std::clamp(0.5 * J.dot(u0 + kept * ut), 0.0, taken);
     }
   }
 }

@@ -33,7 +33,7 @@ public:
   std::size_t bytes() const override {
     return allocatedBytes(walls_, radius_, start_, X_, begin_, entryKey_, node_, S_, grad_, first_,
                           key_, box_, head_, site_, next_, fieldOf_, mass_, volume_, momentum_,
-                          force_, velocity_, increment_, gradV_, beforeContact_, nodeLoad_,
+                          force_, velocity_, increment_, gradV_, beforeContact_, heat_, nodeLoad_,
                           nodeMass_, area_, rigid_, rigidV_, fixedMass_, fixedMomentum_, support_);
   }
 
@@ -140,15 +140,18 @@ private:
     for (std::size_t I = 0; I < N; ++I)
       if (mass_[I] > 0.0) increment_[I] = momentum_[I] / mass_[I];
     if (rigid) prescribe(increment_);
+    // Friction's work (contact()) at each field node, which G2P hands its points as heat.
+    std::vector<double>* heat = nullptr;
+    if (multi_ && !P.heat.empty()) heat_.assign(N, 0.0), heat = &heat_;
     if (multi_) {
       beforeContact_ = increment_;
-      contact(increment_);
+      contact(increment_, heat, nullptr);
     }
 #pragma omp parallel for schedule(static) if (threaded(N))
     for (std::size_t I = 0; I < N; ++I)
       if (mass_[I] > 0.0) velocity_[I] = increment_[I] + (dt / mass_[I]) * force_[I];
     if (rigid) prescribe(velocity_);
-    if (multi_) contact(velocity_);
+    if (multi_) contact(velocity_, heat, &increment_);
     std::vector<Vec<Dim>>& before = multi_ ? beforeContact_ : increment_;
 #pragma omp parallel for schedule(static) if (threaded(N))
     for (std::size_t I = 0; I < N; ++I) {
@@ -189,6 +192,14 @@ private:
       for (std::size_t e = from(r); e < to(r); ++e) {
         vPic += S_[e] * velocity_[node_[e]];
         dv += S_[e] * increment_[node_[e]];
+      }
+      // Friction's heat: each field node's by the point's share of its mass (S_Ip m_p / m_I).
+      if (!P.heat.empty()) {
+        double q = 0.0;
+        if (multi_)
+          for (std::size_t e = from(r); e < to(r); ++e)
+            if (mass_[node_[e]] > 0.0) q += S_[e] * heat_[node_[e]] / mass_[node_[e]];
+        P.heat[r] = q;
       }
       P.x[r] += dt * vPic;
       P.a[r] = dv / dt;
@@ -245,7 +256,7 @@ public:
     for (std::size_t I = 0; I < N; ++I)
       velocity_[I] = mass_[I] > 0.0 ? Vec<Dim>(momentum_[I] / mass_[I]) : Vec<Dim>::Zero();
     if (!rigid_.empty()) prescribe(velocity_);
-    if (multi_) contact(velocity_);
+    if (multi_) contact(velocity_, nullptr, nullptr); // the remap's: L only, no point's velocity
 #pragma omp parallel for schedule(static) if (threaded(N))
     for (std::size_t I = 0; I < N; ++I) constrain(I, velocity_[I]);
 #pragma omp parallel for schedule(static) if (threaded(P.owned))
@@ -464,7 +475,10 @@ private:
     return multi_ ? site_.size() : key_.size();
   }
 
-  void contact(std::vector<Vec<Dim>>& v) const; // MpmGridContact.hpp
+  // Corrects the fields' velocities where they meet; friction's work into *heat, with the
+  // slides at the step's start from `start` if given (MpmGridContact.hpp).
+  void contact(std::vector<Vec<Dim>>& v, std::vector<double>* heat,
+               const std::vector<Vec<Dim>>* start) const;
   // Row r's entries [from(r), to(r)): a block's a fixed count (the loops unroll), CPDI's a list.
   std::size_t from(std::size_t r) const {
     if constexpr (kBlock)
@@ -573,6 +587,7 @@ private:
   std::vector<double> mass_, volume_;
   std::vector<Vec<Dim>> momentum_, force_, velocity_, increment_, gradV_;
   std::vector<Vec<Dim>> beforeContact_; // contact: the fields' velocities before its correction
+  std::vector<double> heat_;            // friction's work this step (J)
   // Loads, per lattice node: P, the loaded area sum_p V_p grad S_Ip (+ rz hoop), the mass.
   std::vector<double> nodeLoad_, nodeMass_;
   std::vector<Vec<Dim>> area_;

@@ -120,6 +120,9 @@ CASES = [("sod_1d.toml", []), ("rod_impact_copper.toml", ["run.end_time=6e-6"]),
          ("glancing_disks_mpm_2d.toml", ["run.end_time=2.5"]),
          # ... with APIC: the affine part at each (node, field) pair's place
          ("glancing_disks_mpm_2d.toml", ["run.end_time=2.5", 'solver.mpm.transfer="apic"']),
+         # ... Coulomb friction against a fixed body under a load: the friction's heat from
+         # each (node, field) pair to its points
+         ("sliding_block_friction_mpm_2d.toml", ["run.end_time=1.2e-5"]),
          # ... uGIMP: each point's box as made
          ("taylor_bar_3d.toml", ["run.resolution=0.4", "run.max_steps=40", "solver.method=mpm",
                                  'solver.mpm.shape="gimp"']),

@@ -289,9 +289,9 @@ with tempfile.TemporaryDirectory() as tmp:
     stopped_and_restarted(SRC / "decks/two_disks_mpm_2d.toml", 3, tmp / "mpm_disks_apic",
                           ['solver.mpm.transfer="apic"'], 200,
                           "two disks (MPM, APIC), 3 ranks, restart mid-impact")
-    stopped_and_restarted(SRC / "decks/glancing_disks_mpm_2d.toml", 3, tmp / "mpm_glancing", [],
-                          200, "glancing disks (MPM, frictionless contact), 3 ranks, restart "
-                          "mid-impact")
+    stopped_and_restarted(SRC / "decks/glancing_disks_mpm_2d.toml", 3, tmp / "mpm_glancing",
+                          ['solver.contact="friction"', "solver.mpm.friction=0.3"], 200,
+                          "glancing disks (MPM, Coulomb friction), 3 ranks, restart mid-impact")
     # CPDI: the domains (particle_domain) are checkpointed; the bar stopped at stretch 2.
     stopped_and_restarted(SRC / "decks/stretching_bar_mpm_2d.toml", 3, tmp / "mpm_stretch", [],
                           90, "stretching bar (MPM, CPDI), 3 ranks, restart at stretch 2")

@@ -33,7 +33,7 @@ public:
     return {{"halo", this->haloBytes()},
             {"mpm_grid", grid_ ? grid_->bytes() : 0},
             {"solver_scratch", allocatedBytes(fixedRow_, support_, order_, idRow_, idRowTmp_, L_,
-                                              work_, rhoMid_, reach_, boxReach_) +
+                                              work_, rhoMid_, heat_, reach_, boxReach_) +
                                    this->loadBytes() + this->cellGridBytes()}};
   }
 
@@ -78,6 +78,7 @@ private:
   std::vector<std::uint32_t> order_;      // rows in id order: every node sums in it
   std::vector<Tensor<3>> L_;              // the step's velocity gradient (fluids: no L field)
   std::vector<double> work_, rhoMid_;     // deform(): sigma_n : D and rho_{n+1/2} per point
+  std::vector<double> heat_;              // contact = "friction": each owned point's J/kg a step
   // (id - min id, row) of every row, and the radix passes' other buffer (idOrder).
   std::vector<std::pair<ParticleId, std::uint32_t>> idRow_, idRowTmp_;
   std::vector<double> reach_;

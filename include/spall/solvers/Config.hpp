@@ -83,12 +83,18 @@ inline constexpr NameTable<Geometry, 2> kGeometryNames{
 enum class Contact {
   Welded,       // like one continuum: bodies touching under tension stick
   Frictionless, // only compression across a body boundary: bodies slide and separate freely
-  Auto          // welded where bodies touch at t = 0 (a bonded assembly), frictionless between
+  Auto,         // welded where bodies touch at t = 0 (a bonded assembly), frictionless between
                 // bodies that meet later (impacts)
+  Friction      // MPM: as Frictionless, and Coulomb friction where the bodies slide
 };
-inline constexpr NameTable<Contact, 3> kContactNames{{{{Contact::Auto, "auto"},
+inline constexpr NameTable<Contact, 4> kContactNames{{{{Contact::Auto, "auto"},
                                                        {Contact::Welded, "welded"},
-                                                       {Contact::Frictionless, "frictionless"}}}};
+                                                       {Contact::Frictionless, "frictionless"},
+                                                       {Contact::Friction, "friction"}}}};
+// MPM gives each body its own velocity field on the grid with these (one field otherwise).
+constexpr bool fieldPerBody(Contact c) {
+  return c == Contact::Frictionless || c == Contact::Friction;
+}
 
 // The material point method's grid and transfers ([solver.mpm]).
 enum class MpmShape {
@@ -125,6 +131,9 @@ struct MpmConfig {
   // The bulk viscosity q = rho (C_Q (l tr D)^2 - C_L l c tr D) in compression (tr D < 0), l the
   // cell size (von Neumann & Richtmyer 1950; Landshoff's linear term): 0, 0 is none.
   double viscosity_linear = 0.0, viscosity_quadratic = 0.0;
+  // Coulomb's coefficient between the bodies' velocity fields (contact = "friction"): where
+  // they meet, the tangential velocity changes by at most friction times the normal change.
+  double friction = 0.0;
   bool viscous() const { return viscosity_linear > 0.0 || viscosity_quadratic > 0.0; }
   SourceLocation where; // the [solver.mpm] table (or [solver])
 };

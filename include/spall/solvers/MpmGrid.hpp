@@ -36,8 +36,12 @@
 // where the fields' material fills the node's support (a gap is not a contact: MpmGridContact.hpp),
 // applied to the grid velocities before the force, after it (the force acting on the corrected
 // velocity) and after the remap; the first two reach the particles' velocities (the bodies'
-// momentum exchange), and on a wall plane n_b lies in the plane. The tangential part is
-// untouched (no friction) and fields moving apart are free (no tension). With two fields the
+// momentum exchange), and on a wall plane n_b lies in the plane. Frictionless, the tangential
+// part is untouched; with Coulomb friction mu (contact = "friction"), with u_t = the tangential
+// part of v_b - v_cm, v_b <- v_b - min(mu (v_b - v_cm) . n_b, |u_t|) u_t / |u_t| (it sticks
+// where mu times the approach exceeds the slide), and the kinetic energy that takes, friction's
+// work, heats the field's points by their shares of its mass. Fields moving apart are free
+// (no tension). With two fields the
 // normals are opposite and the corrections conserve momentum exactly; with more, the node's
 // momentum to the normals' spread.
 #include "spall/core/MemoryAccounting.hpp"
@@ -71,6 +75,9 @@ template <int Dim> struct MpmParticles {
   std::span<Tensor<Dim>> affine; // APIC: each row's velocity gradient C_p; empty: FLIP
   std::size_t owned = 0;
   std::span<const std::int32_t> field; // each row's velocity field (contact group); empty: one
+  // Friction (contact = "friction"): project() leaves on each owned row the specific heat
+  // (J/kg) its share of the contact's frictional work gave it this step; empty: not asked.
+  std::span<double> heat;
   // Loads and supports (methods/MpmMethod fills them from the modules' hooks); empty: none.
   std::span<const Vec<Dim>> aExt;      // each row's external acceleration (damping)
   std::span<const std::uint8_t> rigid; // 1: a fixed body's point, its velocity prescribed

@@ -63,7 +63,8 @@ template <class K> void keysOf(K& k, SolverConfig& s) {
            "corrected: a kernel gradient exact for linear fields (Randles & Libersky 1996).");
   // "auto" by default: bodies that collide part again (tools/stress, decks/README.md).
   k.choice("contact", s.contact, kContactNames, Contact::Auto,
-           "auto: welded where bodies touch at t = 0, frictionless where they meet later.");
+           "auto: welded where bodies touch at t = 0, frictionless where they meet later; "
+           "friction (MPM): Coulomb's, solver.mpm.friction.");
   k.table("mpm", "defaults", "method = \"mpm\" only",
           "The material point method's grid, shape functions and transfers.");
 }
@@ -103,6 +104,9 @@ template <class K> void keysOf(K& k, MpmConfig& c) {
             "blends FLIP with PIC; transfer = \"apic\" is neither (PIC's velocity with an affine "
             "part): remove flip or set it to 1");
   k.table("viscosity", "none", "", "A bulk shock viscosity in compression.");
+  k.number("friction", c.friction, keep, "", atLeast(0),
+           "Coulomb's coefficient mu where bodies meet (contact = \"friction\"): |dv_t| <= mu "
+           "dv_n.");
 }
 
 // [solver.mpm.viscosity]: two coefficients of MpmConfig.
@@ -167,7 +171,17 @@ void readSolver(const deck_detail::TableReader& r, SolverConfig& s) {
     s.mpm.where = mp.where();
     readSubtable(r, "mpm", "solver.mpm", s.mpm, kKeys);
     readSubtable(mp, "viscosity", "solver.mpm.viscosity", s.mpm, kViscosityKeys);
+    if (s.mpm.friction > 0.0 && s.contact != Contact::Friction)
+      mp.fail("friction", "acts only where bodies' velocity fields meet: set solver.contact = "
+                          "\"friction\"");
   }
+  if (s.contact == Contact::Friction && s.method != SolverMethod::Mpm)
+    r.fail("contact", "\"friction\" (Coulomb's, between the bodies' velocity fields) is the "
+                      "material point method's; SPH and ASPH have \"auto\", \"welded\" and "
+                      "\"frictionless\"");
+  if (s.contact == Contact::Friction && !(s.mpm.friction > 0.0))
+    r.fail("contact", "\"friction\" needs Coulomb's coefficient: set [solver.mpm] friction "
+                      "(> 0; without friction, contact = \"frictionless\")");
   s.velocityGradientGiven = r.has("velocity_gradient");
   auto& av = s.artificial_viscosity;
   av.balsaraWhere = s.where;

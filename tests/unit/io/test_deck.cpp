@@ -652,6 +652,22 @@ TEST_F(DeckTest, MpmTakesItsTableAndRefusesWhatItCannotDoYet) {
   EXPECT_EQ(
       load(withLine(kDeck1D, 7, "method = \"mpm\"\ncontact = \"frictionless\"")).solver.contact,
       spall::Contact::Frictionless);
+  // ... and Coulomb friction between the fields, MPM's only, with its coefficient and only then.
+  const auto friction =
+      load(withLine(kDeck1D, 7,
+                    "method = \"mpm\"\ncontact = \"friction\"\nmpm = { friction = 0.3 }"))
+          .solver;
+  EXPECT_EQ(friction.contact, spall::Contact::Friction);
+  EXPECT_EQ(friction.mpm.friction, 0.3);
+  expectError(withLine(kDeck1D, 7, "contact = \"friction\""), 7, 11, "material point method's");
+  expectError(withLine(kDeck1D, 7, "method = \"mpm\"\ncontact = \"friction\""), 8, 11,
+              "set [solver.mpm] friction");
+  expectError(withLine(kDeck1D, 7,
+                       "method = \"mpm\"\ncontact = \"frictionless\"\nmpm = { friction = 0.3 }"),
+              9, 20, "set solver.contact = \"friction\"");
+  expectError(
+      withLine(kDeck1D, 7, "method = \"mpm\"\ncontact = \"friction\"\nmpm = { friction = -0.1 }"),
+      9, 20, ">= 0");
   // ... and fixed bodies (their grid nodes move at their velocity).
   EXPECT_TRUE(
       load(withLine(withLine(kDeck1D, 7, "method = \"mpm\""), 22, "fixed = true")).bodies[0].fixed);

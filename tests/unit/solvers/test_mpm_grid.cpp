@@ -643,15 +643,17 @@ namespace {
 // fields 0 and 1 when `contact`, one field otherwise. One step; the points' new velocities.
 // rz: x is the radius, each point a ring (mass 2 pi r times its area), the axis a slip wall, and
 // the nodes' rows half a cell off the interface.
+// With mu > 0, Coulomb friction between the fields, and each point's heat from it in *heat.
 std::vector<Vec<2>> stepTwoBlocks(const Vec<2>& vLower, const Vec<2>& vUpper, double gap,
                                   bool contact, double pressure = 0.0, bool loaded = false,
-                                  bool rz = false) {
+                                  bool rz = false, double mu = 0.0,
+                                  std::vector<double>* heat = nullptr, int cells = 4) {
   std::vector<Vec<2>> x, v, a;
   std::vector<double> m, rho, p, lp;
   std::vector<std::int32_t> field;
   for (int block = 0; block < 2; ++block)
     for (int j = 0; j < 4; ++j)
-      for (int i = 0; i < 8; ++i) {
+      for (int i = 0; i < 2 * cells; ++i) {
         x.emplace_back(0.25 + 0.5 * i, 0.25 + 0.5 * j + (block == 1 ? 2.0 + gap : 0.0));
         v.push_back(block == 0 ? vLower : vUpper);
         a.push_back(Vec<2>::Zero());
@@ -663,7 +665,8 @@ std::vector<Vec<2>> stepTwoBlocks(const Vec<2>& vLower, const Vec<2>& vUpper, do
       }
   std::vector<std::uint32_t> order(x.size());
   std::iota(order.begin(), order.end(), 0u);
-  const MpmConfig config = gridConfig(1.0, MpmShape::Gimp, 0.0);
+  MpmConfig config = gridConfig(1.0, MpmShape::Gimp, 0.0);
+  config.friction = mu;
   std::vector<GridWall<2>> axis;
   if (rz) axis.push_back(GridWall<2>{Vec<2>::Zero(), Vec<2>(1.0, 0.0)});
   auto grid = makeMpmGrid<2>(config, Vec<2>(0.0, rz ? 0.5 : 0.0), axis, rz);
@@ -673,6 +676,7 @@ std::vector<Vec<2>> stepTwoBlocks(const Vec<2>& vLower, const Vec<2>& vUpper, do
   std::vector<double> load(loaded ? x.size() : 0, pressure);
   std::vector<Vec<2>> area(load.size());
   if (loaded) P.load = load, P.loadArea = area;
+  if (heat) heat->assign(x.size(), -1.0), P.heat = *heat;
   grid->project(P, order, 0.01);
   return {v.begin(), v.end()};
 }
@@ -710,6 +714,61 @@ TEST(MpmGridContact, ApproachStopsAtTheInterfaceAndConservesMomentum) {
   }
   EXPECT_LT(momentum.norm(), 1e-14 * 16.0);
   EXPECT_LT(slowest, 0.5);
+}
+
+TEST(MpmGridContact, CoulombFrictionTakesMuTimesTheApproachOrSticks) {
+  // Blocks 16 cells wide closing at +-1 along y and sliding at +-1 along x (PIC: each point's
+  // new velocity is its nodes' mean). Away from the blocks' ends (2 cells and more) every
+  // interface node's normal is +-y, so each node's correction is (mu, 1) times the approach it
+  // takes (slipping: mu = 0.3 of the slide 1), and each point's velocity change the same:
+  // dv_x = mu dv_y (1e-14). With mu = 10 the fields stick: the nodes take the centre of mass's
+  // velocity (0, 0), a change (1, 1) times the same weight, dv_x = dv_y. The momentum stays 0
+  // (two fields: opposite normals and slides), and frictionless keeps the slide exactly.
+  for (const double mu : {0.0, 0.3, 10.0}) {
+    const auto v = stepTwoBlocks(Vec<2>(1.0, 1.0), Vec<2>(-1.0, -1.0), 0.0, true, 0.0, false, false,
+                                 mu, nullptr, 16);
+    Vec<2> momentum = Vec<2>::Zero();
+    double slowest = 1.0;
+    for (std::size_t k = 0; k < v.size(); ++k) {
+      momentum += 0.25 * v[k];
+      const double sign = k < v.size() / 2 ? 1.0 : -1.0, xk = 0.25 + 0.5 * double(k % 32);
+      if (xk < 4.0 || xk > 12.0) continue; // the blocks' ends: normals lean there
+      const Vec<2> dv = sign * (v[k] - sign * Vec<2>(1.0, 1.0));
+      EXPECT_NEAR(dv[0], std::min(mu, 1.0) * dv[1], 1e-14) << "mu " << mu << " point " << k;
+      slowest = std::min(slowest, sign * v[k][1]);
+    }
+    EXPECT_LT(momentum.norm(), 1e-13) << mu;
+    EXPECT_LT(slowest, 0.5) << mu; // contact acted
+  }
+}
+
+TEST(MpmGridContact, FrictionHeatsOnlyTheInterfaceAndAtMostWhatTheSlideLost) {
+  // The same slide at mu = 0.3: the friction's work is the kinetic energy the tangential
+  // correction takes from the grid, handed to each point by its share of its field's nodes.
+  // It is positive next to the interface, exactly 0 for points whose nodes meet no other
+  // field (more than 1.25 cells from it: GIMP's reach), 0 without friction, and it is at most
+  // the points' kinetic energy lost: the grid's before the step equals theirs (uniform
+  // velocities), and PIC's new velocities hold at most the grid's after (Jensen).
+  std::vector<double> heat;
+  const Vec<2> v0(1.0, 1.0);
+  const auto v = stepTwoBlocks(v0, -v0, 0.0, true, 0.0, false, false, 0.3, &heat, 16);
+  double heated = 0.0, lost = 0.0;
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    const double y = (k < v.size() / 2 ? 0.25 : 2.25) + 0.5 * double((k % 128) / 32);
+    if (std::abs(y - 2.0) > 1.25) {
+      EXPECT_EQ(heat[k], 0.0) << k;
+    }
+    if (std::abs(y - 2.0) < 0.5) {
+      EXPECT_GT(heat[k], 0.0) << k;
+    }
+    EXPECT_GE(heat[k], 0.0) << k;
+    heated += 0.25 * heat[k];
+    lost += 0.5 * 0.25 * (v0.squaredNorm() - v[k].squaredNorm());
+  }
+  EXPECT_GT(heated, 0.0);
+  EXPECT_LE(heated, lost);
+  stepTwoBlocks(v0, -v0, 0.0, true, 0.0, false, false, 0.0, &heat, 16);
+  for (double q : heat) EXPECT_EQ(q, 0.0);
 }
 
 TEST(MpmGridContact, ApproachAlongTheAxisStaysAlongItInRz) {
