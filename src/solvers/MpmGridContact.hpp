@@ -51,8 +51,8 @@ void Grid<Dim, Shape>::numberFields(const MpmParticles<Dim>& P, std::size_t rows
 // `heat`, friction's work is added there (J) for the field's points to take up as internal
 // energy: the impulse J_t = m (u_t - u_t') times the slide it acts across. Without `start` (the
 // correction of the step's starting velocities) that is the mean of the slides before and
-// after, J_t . (u_t + u_t') / 2, the kinetic energy the correction takes. After the force,
-// (`start`: the velocities before it, corrected), it is the mean of the slides at the step's
+// after, J_t . (u_t + u_t') / 2, the kinetic energy the correction takes. After the force
+// (`start`: the velocities before it, corrected) it is the mean of the slides at the step's
 // start and end: the force's own tangential push at an interface node (the body's shear,
 // which the friction takes back in the same step) is no slide. With the kinetic energy taken
 // instead, a block sliding to rest under load booked 1.19 times the energy it lost, and a
