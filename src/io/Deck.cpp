@@ -68,8 +68,8 @@ private:
   void readRun(const TableReader& r, RunConfig& run);
   void readBody(const TableReader& r, const std::vector<MaterialConfig>& materials,
                 BodyConfig& b) const;
-  void readBoundary(const TableReader& r, BoundaryConfig& b,
-                    const std::vector<BodyConfig>& bodies) const;
+  void readBoundary(const TableReader& r, BoundaryConfig& b, const std::vector<BodyConfig>& bodies,
+                    SolverMethod method) const;
   // The index of the body `name` names (key `key` of r), or a DeckError with a did-you-mean.
   std::int32_t bodyIndex(const TableReader& r, std::string_view key, const std::string& name,
                          const std::vector<BodyConfig>& bodies) const;
@@ -157,8 +157,9 @@ void DeckReader::read(Deck& deck) {
   entries("energy_source", deck.energy_sources, [&](const TableReader& r, EnergySourceConfig& e) {
     keys::readEnergySource(r, e, dimension_);
   });
-  entries("boundary", deck.boundaries,
-          [&](const TableReader& r, BoundaryConfig& b) { readBoundary(r, b, deck.bodies); });
+  entries("boundary", deck.boundaries, [&](const TableReader& r, BoundaryConfig& b) {
+    readBoundary(r, b, deck.bodies, deck.solver.method);
+  });
   // One pressure table per body; one period per axis (two would contradict each other, and the
   // halo's periodic images count on one).
   for (std::size_t i = 0; i < deck.boundaries.size(); ++i)
@@ -276,10 +277,15 @@ void DeckReader::readBody(const TableReader& r, const std::vector<MaterialConfig
 }
 
 void DeckReader::readBoundary(const TableReader& r, BoundaryConfig& b,
-                              const std::vector<BodyConfig>& bodies) const {
+                              const std::vector<BodyConfig>& bodies, SolverMethod method) const {
   keys::readBoundary(r, b, dimension_, rz_);
   switch (b.type) {
   case BoundaryType::RigidWall: {
+    // SPH's wall is a mirror: its images carry no shear to rub with.
+    if (b.friction > 0.0 && method != SolverMethod::Mpm)
+      r.fail("friction", r.quoted("friction") + " of a rigid wall is the material point "
+                                                "method's (its grid nodes on the wall); SPH's "
+                                                "and ASPH's walls are mirrors and slip");
     const double n = dd::norm(b.normal);
     if (n == 0.0) r.fail("normal", r.quoted("normal") + " must not be the zero vector");
     for (double& x : b.normal) x /= n;

@@ -38,6 +38,10 @@ MpmMethod<Dim>::MpmMethod(const parallel::MpiContext& mpi, MethodSetup setup,
   if (loaded_) loadFields_.push_back(f.a.index);
   if (f.confiningPressure.valid()) loadFields_.push_back(f.confiningPressure.index);
   if (!fixedBodies_.empty()) loadFields_.push_back(f.body.index);
+  rubs_ = setup_.solver.contact == Contact::Friction ||
+          std::any_of(setup_.boundaries.begin(), setup_.boundaries.end(), [](const auto& b) {
+            return b.type == BoundaryType::RigidWall && b.friction > 0.0;
+          });
 }
 
 // t = 0 (or a body joining): the modules' initial values (the points' half-widths among them),
@@ -378,6 +382,7 @@ template <int Dim> void MpmMethod<Dim>::makeGrid() {
       w.normal[a] = b.normal[static_cast<std::size_t>(a)];
     }
     w.normal.normalize();
+    w.friction = b.friction;
     walls.push_back(w);
   }
   grid_ = solvers::makeMpmGrid<Dim>(setup_.solver.mpm, origin_, std::move(walls),
@@ -402,7 +407,7 @@ template <int Dim> solvers::MpmParticles<Dim> MpmMethod<Dim>::particles() {
   // contact "frictionless" or "friction": a velocity field per body (solvers/MpmGrid; "auto" is
   // one field).
   if (f_.contactGroup.valid()) P.field = s_[f_.contactGroup].first(rows);
-  if (setup_.solver.contact == Contact::Friction) {
+  if (rubs_) {
     heat_.assign(P.owned, 0.0);
     P.heat = heat_;
   }

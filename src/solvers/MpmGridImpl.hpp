@@ -142,7 +142,7 @@ private:
     if (rigid) prescribe(increment_);
     // Friction's work (contact()) at each field node, which G2P hands its points as heat.
     std::vector<double>* heat = nullptr;
-    if (multi_ && !P.heat.empty()) heat_.assign(N, 0.0), heat = &heat_;
+    if (!P.heat.empty()) heat_.assign(N, 0.0), heat = &heat_;
     if (multi_) {
       beforeContact_ = increment_;
       contact(increment_, heat, nullptr);
@@ -153,8 +153,10 @@ private:
     if (rigid) prescribe(velocity_);
     if (multi_) contact(velocity_, heat, &increment_);
     std::vector<Vec<Dim>>& before = multi_ ? beforeContact_ : increment_;
+    // (Threads: each node writes its own entries, the heat among them.)
 #pragma omp parallel for schedule(static) if (threaded(N))
     for (std::size_t I = 0; I < N; ++I) {
+      if (rubs_) rub(I, before[I], velocity_[I], heat);
       constrain(I, before[I]);
       constrain(I, velocity_[I]);
       increment_[I] = velocity_[I] - before[I];
@@ -193,12 +195,11 @@ private:
         vPic += S_[e] * velocity_[node_[e]];
         dv += S_[e] * increment_[node_[e]];
       }
-      // Friction's heat: each field node's by the point's share of its mass (S_Ip m_p / m_I).
+      // Friction's heat: each (field) node's by the point's share of its mass (S_Ip m_p / m_I).
       if (!P.heat.empty()) {
         double q = 0.0;
-        if (multi_)
-          for (std::size_t e = from(r); e < to(r); ++e)
-            if (mass_[node_[e]] > 0.0) q += S_[e] * heat_[node_[e]] / mass_[node_[e]];
+        for (std::size_t e = from(r); e < to(r); ++e)
+          if (mass_[node_[e]] > 0.0) q += S_[e] * heat_[node_[e]] / mass_[node_[e]];
         P.heat[r] = q;
       }
       P.x[r] += dt * vPic;
@@ -551,6 +552,30 @@ private:
   void constrain(std::size_t I, Vec<Dim>& v) const {
     constrainAt(key_[lattice(I)], v);
   }
+  // Coulomb friction of the walls a node lies on (GridWall::friction), before the walls take
+  // the normal parts: the force pressing the node on a wall this step is -(v^L - v) . n (the
+  // change the wall cancels, as the FLIP increment keeps out its correction of v), and the
+  // tangential v^L loses up to mu times it, or all of it (it sticks). The work, the impulse
+  // times the mean of the slides at the step's start and end (as contact's, MpmGridContact.hpp),
+  // into heat.
+  void rub(std::size_t I, const Vec<Dim>& v, Vec<Dim>& vL, std::vector<double>* heat) const {
+    if (!rigid_.empty() && rigid_[I]) return;
+    const Vec<Dim> X = place(key_[lattice(I)]);
+    for (const auto& w : walls_) {
+      if (!(w.friction > 0.0) || !onWall(X, w)) continue;
+      const double pressed = -(vL - v).dot(w.normal);
+      const Vec<Dim> slide = vL - vL.dot(w.normal) * w.normal;
+      const double s = slide.norm();
+      if (!(pressed > 0.0) || !(s > 0.0)) continue;
+      const double kept = std::max(0.0, 1.0 - w.friction * pressed / s); // 0: it sticks
+      vL -= (1.0 - kept) * slide;
+      if (!heat) continue;
+      const Vec<Dim> J = mass_[I] * (1.0 - kept) * slide;
+      const Vec<Dim> start = v - v.dot(w.normal) * w.normal;
+      (*heat)[I] +=
+          std::clamp(0.5 * J.dot(start + kept * slide), 0.0, 0.5 * J.dot((1.0 + kept) * slide));
+    }
+  }
   // A node on or behind a wall's plane: the wall holds its velocity along the normal.
   bool onWall(const Vec<Dim>& X, const GridWall<Dim>& w) const {
     return (X - w.point).dot(w.normal) <= 1e-9 * c_.cell_size;
@@ -565,6 +590,8 @@ private:
   MpmConfig c_;
   Vec<Dim> origin_;
   std::vector<GridWall<Dim>> walls_;
+  bool rubs_ = std::any_of(walls_.begin(), walls_.end(),
+                           [](const auto& w) { return w.friction > 0.0; }); // a wall with friction
   bool rz_;                         // axisymmetric: x = r, y = z, the points rings
   std::vector<double> radius_;      // rz: the owned rings' radii for the hoop rate
   std::vector<Vec<Dim>> start_, X_; // APIC: the owned rows' places at the step's start; the nodes'

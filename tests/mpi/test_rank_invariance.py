@@ -133,9 +133,11 @@ CASES = [("sod_1d.toml", []), ("rod_impact_copper.toml", ["run.end_time=6e-6"]),
          ("stretching_bar_mpm_2d.toml", ["run.end_time=0.015"]),
          # ... plastic, to failure: Johnson-Cook damage and zero-stress erosion per point
          ("stretching_bar_damage_mpm_2d.toml", ["run.end_time=0.012"]),
-         # ... and in rz: the axis a constrained node plane, the hoop terms, the bulk viscosity
+         # ... and in rz: the axis a constrained node plane, the hoop terms, the bulk viscosity,
+         # the wall's friction and its heat
          ("taylor_bar_4340_rz.toml", ["run.end_time=2e-5", "solver.method=mpm",
-                                      "solver.mpm.viscosity={linear=0.2, quadratic=2.0}"]),
+                                      "solver.mpm.viscosity={linear=0.2, quadratic=2.0}",
+                                      "boundary.1.friction=0.3"]),
          # ... and with APIC: C_p folded with the rings that cross the axis
          ("taylor_bar_4340_rz.toml", ["run.end_time=2e-5", "solver.method=mpm",
                                       'solver.mpm.transfer="apic"']),

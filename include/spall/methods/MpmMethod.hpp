@@ -78,7 +78,8 @@ private:
   std::vector<std::uint32_t> order_;      // rows in id order: every node sums in it
   std::vector<Tensor<3>> L_;              // the step's velocity gradient (fluids: no L field)
   std::vector<double> work_, rhoMid_;     // deform(): sigma_n : D and rho_{n+1/2} per point
-  std::vector<double> heat_;              // contact = "friction": each owned point's J/kg a step
+  std::vector<double> heat_; // friction (contact, walls): each owned point's J/kg a step
+  bool rubs_ = false;        // contact = "friction" or a rigid wall with friction
   // (id - min id, row) of every row, and the radix passes' other buffer (idOrder).
   std::vector<std::pair<ParticleId, std::uint32_t>> idRow_, idRowTmp_;
   std::vector<double> reach_;

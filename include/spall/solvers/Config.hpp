@@ -191,6 +191,7 @@ struct BoundaryConfig {
   // rigid_wall: a particle found behind the plane is folded back (position and velocity
   // mirrored). The rz axis is such a mirror: a ring cannot have r < 0.
   bool fold = false;
+  double friction = 0.0;       // rigid_wall, MPM: Coulomb's coefficient; 0 slips
   int axis = 0;                // periodic: 0 = x, 1 = y, 2 = z
   double min = 0.0, max = 0.0; // periodic
   // pressure: the body it loads (name and index in the deck) and its (time, Pa) table, linear

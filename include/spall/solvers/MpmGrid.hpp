@@ -62,6 +62,7 @@ namespace spall::solvers {
 // normal (a symmetry plane that lets material slide, as SPH's mirror images do).
 template <int Dim> struct GridWall {
   Vec<Dim> point, normal; // normal (unit) points into the material
+  double friction = 0.0;  // Coulomb's coefficient against what the force presses on it
 };
 
 // What the transfers read and write of the particles: rows [0, rows) of the store (owned first,

@@ -12,6 +12,8 @@ template <class K> void rigidWallKeys(K& k, BoundaryConfig& b) {
   k.vector("point", b.point, required, "m", "in rz, a wall along r: r > 0", "A point on the wall.");
   k.vector("normal", b.normal, required, "", "not zero; in rz along r or z",
            "The normal, pointing into the material (any length).");
+  k.number("friction", b.friction, keep, "", atLeast(0),
+           "MPM: Coulomb's coefficient mu against the material pressed on it; 0: it slips.");
 }
 
 // `dimension`, `rz`: run.dimension and run.geometry = "rz", which bound the axis.

@@ -668,6 +668,10 @@ TEST_F(DeckTest, MpmTakesItsTableAndRefusesWhatItCannotDoYet) {
   expectError(
       withLine(kDeck1D, 7, "method = \"mpm\"\ncontact = \"friction\"\nmpm = { friction = -0.1 }"),
       9, 20, ">= 0");
+  // ... and a rigid wall's friction, MPM's only (SPH's wall is a mirror).
+  const std::string rubbing = withLine(kDeck1D, 32, "normal = [2.0]\nfriction = 0.2");
+  EXPECT_EQ(load(withLine(rubbing, 7, "method = \"mpm\"")).boundaries[0].friction, 0.2);
+  expectError(rubbing, 33, 12, "material point method's");
   // ... and fixed bodies (their grid nodes move at their velocity).
   EXPECT_TRUE(
       load(withLine(withLine(kDeck1D, 7, "method = \"mpm\""), 22, "fixed = true")).bodies[0].fixed);
