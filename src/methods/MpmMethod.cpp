@@ -133,7 +133,7 @@ template <int Dim> double MpmMethod<Dim>::advance(double dt, std::int64_t step, 
   if (loaded_) stats_.phases.time(kBoundaries, [&] { loads(time); });
   const auto P = particles();
   stats_.phases.time(kForces, [&] { grid_->project(P, order_, dt); });
-  // Friction's work, the kinetic energy the contact took from sliding fields, as heat.
+  // Friction's work (between bodies' fields and on walls: solvers/MpmGrid.hpp) as heat.
   if (!P.heat.empty()) {
     const auto e = s_[f_.e];
     for (std::size_t i = 0; i < s_.localCount(); ++i) e[i] += heat_[i];

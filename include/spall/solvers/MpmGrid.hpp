@@ -39,9 +39,10 @@
 // momentum exchange), and on a wall plane n_b lies in the plane. Frictionless, the tangential
 // part is untouched; with Coulomb friction mu (contact = "friction"), with u_t = the tangential
 // part of v_b - v_cm, v_b <- v_b - min(mu (v_b - v_cm) . n_b, |u_t|) u_t / |u_t| (it sticks
-// where mu times the approach exceeds the slide), and the kinetic energy that takes, friction's
-// work, heats the field's points by their shares of its mass. Fields moving apart are free
-// (no tension). With two fields the
+// where mu times the approach exceeds the slide), and friction's work (the impulse times the
+// slide it acts across) heats the field's points by their shares of its mass. Fields moving
+// apart are free (no tension). A wall with friction takes from a node on it up to mu times what
+// the step's force pressed on it of its slide, booked alike. With two fields the
 // normals are opposite and the corrections conserve momentum exactly; with more, the node's
 // momentum to the normals' spread.
 #include "spall/core/MemoryAccounting.hpp"
@@ -76,8 +77,8 @@ template <int Dim> struct MpmParticles {
   std::span<Tensor<Dim>> affine; // APIC: each row's velocity gradient C_p; empty: FLIP
   std::size_t owned = 0;
   std::span<const std::int32_t> field; // each row's velocity field (contact group); empty: one
-  // Friction (contact = "friction"): project() leaves on each owned row the specific heat
-  // (J/kg) its share of the contact's frictional work gave it this step; empty: not asked.
+  // Friction (contact = "friction", walls with friction): project() leaves on each owned row the
+  // specific heat (J/kg) its share of the friction's work gave it this step; empty: not asked.
   std::span<double> heat;
   // Loads and supports (methods/MpmMethod fills them from the modules' hooks); empty: none.
   std::span<const Vec<Dim>> aExt;      // each row's external acceleration (damping)
