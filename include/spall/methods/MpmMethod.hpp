@@ -80,6 +80,9 @@ private:
   std::vector<double> work_, rhoMid_;     // deform(): sigma_n : D and rho_{n+1/2} per point
   std::vector<double> heat_; // friction (contact, walls): each owned point's J/kg a step
   bool rubs_ = false;        // contact = "friction" or a rigid wall with friction
+  // Per material: whether it erodes with zero_stress (a failed point carries no stress).
+  std::vector<std::uint8_t> zeroStress_;
+  bool carriesNoStress(std::size_t i) const;
   // (id - min id, row) of every row, and the radix passes' other buffer (idOrder).
   std::vector<std::pair<ParticleId, std::uint32_t>> idRow_, idRowTmp_;
   std::vector<double> reach_;
