@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <limits>
 
 // The scene's plausibility (docs/reference.md, "Warnings"): what needs the generated particles,
@@ -60,6 +61,23 @@ template <int Dim> std::vector<DeckWarning> Simulation<Dim>::sceneWarnings() con
                          : fmt::format("'run.end_time' = {:.6g} s is {:.3g} of {}: the run ends "
                                        "before the wave is 1% across; ns typed for us?",
                                        deck_.run.end_time, ratio, scene)}};
+}
+
+// MPM with a velocity field per body: the bodies under 2 cells across, by their shapes' smallest
+// extent (rz: a box from the axis counts its radius), which contact may not stop.
+template <int Dim> void Simulation<Dim>::warnThinBodies(double cell) {
+  std::vector<std::string> thin;
+  for (const auto& b : deck_.bodies) {
+    const double width = thinnestWidth(b.shape);
+    if (width < 2.0 * cell) thin.push_back(fmt::format("'{}' {:.3g} m", b.name, width));
+  }
+  if (thin.empty()) return;
+  deferredWarnings_.push_back(fmt::format(
+      "{}:{}: solver.contact = \"{}\" with MPM acts where the bodies' material fills "
+      "90% of a node's support: bodies under 2 cells ({:.3g} m) across can pass through others "
+      "unstopped ({}); a finer run.resolution or contact \"welded\" (decks/topics/mpm.md)",
+      deck_.solver.where.file, deck_.solver.where.line, kContactNames(deck_.solver.contact),
+      2.0 * cell, fmt::join(thin, ", ")));
 }
 
 template class Simulation<1>;

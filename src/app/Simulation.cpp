@@ -480,22 +480,6 @@ double Simulation<Dim>::stepOnce(double dt, Clock::time_point wall0, bool replay
   return nextTimeStep();
 }
 
-// A body's smallest extent from its shape (rz: a box from the axis counts its radius).
-template <int Dim> void Simulation<Dim>::warnThinBodies(double cell) {
-  std::vector<std::string> thin;
-  for (const auto& b : deck_.bodies) {
-    const double width = thinnestWidth(b.shape);
-    if (width < 2.0 * cell) thin.push_back(fmt::format("'{}' {:.3g} m", b.name, width));
-  }
-  if (thin.empty()) return;
-  deferredWarnings_.push_back(fmt::format(
-      "{}:{}: solver.contact = \"{}\" with MPM acts where the bodies' material fills "
-      "90% of a node's support: bodies under 2 cells ({:.3g} m) across can pass through others "
-      "unstopped ({}); a finer run.resolution or contact \"welded\" (decks/topics/mpm.md)",
-      deck_.solver.where.file, deck_.solver.where.line, kContactNames(deck_.solver.contact),
-      2.0 * cell, fmt::join(thin, ", ")));
-}
-
 // The method's stable step; a step below kCollapse of the end time is a collapse.
 template <int Dim> double Simulation<Dim>::nextTimeStep() {
   return method_->stableTimeStep(kCollapse * deck_.run.end_time, step_, time_);

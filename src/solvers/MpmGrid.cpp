@@ -3,6 +3,7 @@
 #include "MpmGridContact.hpp"
 #include "MpmGridImpl.hpp"
 #include "MpmGridLoads.hpp"
+#include "MpmGridWalls.hpp"
 
 #include <stdexcept>
 

@@ -2,6 +2,7 @@
 // The grid's velocity fields with contact (MpmGrid.hpp, "Contact"): each node's fields as a
 // list in ascending field, and the correction where they meet (frictionless or Coulomb's).
 #include "MpmGridImpl.hpp"
+#include "MpmGridWalls.hpp"
 
 #include <numbers>
 
@@ -49,14 +50,9 @@ void Grid<Dim, Shape>::numberFields(const MpmParticles<Dim>& P, std::size_t rows
 // the centre of mass at u_t also loses min(mu (approach), |u_t|) of it along u_t:
 // the tangential impulse at most mu times the normal one, beyond which the field sticks. With
 // `heat`, friction's work is added there (J) for the field's points to take up as internal
-// energy: the impulse J_t = m (u_t - u_t') times the slide it acts across. Without `start` (the
-// correction of the step's starting velocities) that is the mean of the slides before and
-// after, J_t . (u_t + u_t') / 2, the kinetic energy the correction takes. After the force
-// (`start`: the velocities before it, corrected) it is the mean of the slides at the step's
-// start and end: the force's own tangential push at an interface node (the body's shear,
-// which the friction takes back in the same step) is no slide. With the kinetic energy taken
-// instead, a block sliding to rest under load booked 1.19 times the energy it lost, and a
-// sticking one kept heating (decks/topics/mpm.md).
+// energy (frictionWork, MpmGridWalls.hpp): without `start` (the correction of the step's
+// starting velocities) the slide at the start is the field's own, so the work is the kinetic
+// energy the correction takes; after the force, `start` holds the velocities before it.
 template <int Dim, MpmShape Shape>
 void Grid<Dim, Shape>::contact(std::vector<Vec<Dim>>& v, std::vector<double>* heat,
                                const std::vector<Vec<Dim>>* start) const {
@@ -113,16 +109,10 @@ void Grid<Dim, Shape>::contact(std::vector<Vec<Dim>>& v, std::vector<double>* he
       const double kept = std::max(0.0, 1.0 - mu * approach / slide); // 0: it sticks
       v[b] -= (1.0 - kept) * ut;
       if (!heat) continue;
-      const Vec<Dim> J = mass_[b] * (1.0 - kept) * ut;
-      const double taken = 0.5 * J.dot((1.0 + kept) * ut); // J . (u_t + u_t') / 2
-      if (!start) {
-        (*heat)[b] += taken;
-        continue;
-      }
-      Vec<Dim> u0 = (*start)[b] - vcm0;
-      u0 -= u0.dot(n) * n;
-      // At most the kinetic energy taken; none where the force turned the slide around.
-      (*heat)[b] += std::clamp(0.5 * J.dot(u0 + kept * ut), 0.0, taken);
+      // Before the force its own slide is the start's (the kinetic energy taken).
+      Vec<Dim> u0 = ut;
+      if (start) u0 = (*start)[b] - vcm0, u0 -= u0.dot(n) * n;
+      (*heat)[b] += frictionWork<Dim>(mass_[b] * (1.0 - kept) * ut, u0, ut, kept);
     }
   }
 }

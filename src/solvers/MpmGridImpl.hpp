@@ -1,8 +1,9 @@
 #pragma once
 // The grid behind solvers/MpmGrid.hpp, one class per dimension and shape (the transfers' loops
 // unroll over a block's fixed count of nodes): the transfers and the nodes' numbering here, the
-// frictionless contact between velocity fields in MpmGridContact.hpp, the pressure loads in
-// MpmGridLoads.hpp. Private to src/solvers (MpmGrid.cpp makes them).
+// contact between velocity fields in MpmGridContact.hpp, the walls and friction in
+// MpmGridWalls.hpp, the pressure loads in MpmGridLoads.hpp. Private to src/solvers (MpmGrid.cpp
+// makes them).
 #include "spall/core/Threads.hpp"
 #include "spall/solvers/MpmGrid.hpp"
 
@@ -441,36 +442,8 @@ private:
     for (std::size_t I = 0; I < v.size(); ++I)
       if (rigid_[I]) v[I] = rigidV_[I];
   }
-  // The support's impulse at each node a fixed body holds, the momentum the step hands the
-  // other points there beyond the nodes' forces: J = sum over the node's fields of what G2P
-  // gives the points that are not fixed (FLIP: (m - m_fix) dv; PIC and APIC: (m - m_fix) v -
-  // (p - p_fix); blended by flip) minus dt f. The forces of all nodes sum to the external ones
-  // (the stresses' cancel), so the J add up to the momentum change no force explains: what the
-  // prescribed velocities and the contact against a held field did. Each held field keeps
-  // -J / dt by its share of the fixed mass; G2P hands it to the fixed points as the
-  // acceleration the support cancels (methods/MpmMethod books -m a, as SPH's FixedBodies).
-  void supports(double dt) {
-    const double phi = c_.transfer == MpmTransfer::Apic ? 0.0 : c_.flip;
-    support_.assign(fields(), Vec<Dim>::Zero());
-    const auto fieldsAt = [&](std::size_t L, auto&& each) {
-      if (!multi_) return each(static_cast<std::uint32_t>(L));
-      for (std::uint32_t b = head_[L]; b != kNone; b = next_[b]) each(b);
-    };
-    for (std::size_t L = 0; L < key_.size(); ++L) {
-      Vec<Dim> J = Vec<Dim>::Zero();
-      double held = 0.0;
-      fieldsAt(L, [&](std::uint32_t b) {
-        const double m = mass_[b] - fixedMass_[b];
-        const Vec<Dim> p = momentum_[b] - fixedMomentum_[b];
-        J += phi * m * increment_[b] + (1.0 - phi) * (m * velocity_[b] - p) - dt * force_[b];
-        if (rigid_[b]) held += fixedMass_[b];
-      });
-      if (!(held > 0.0)) continue;
-      fieldsAt(L, [&](std::uint32_t b) {
-        if (rigid_[b]) support_[b] = (-fixedMass_[b] / (held * dt)) * J;
-      });
-    }
-  }
+  // The support's impulse at each node a fixed body holds (MpmGridLoads.hpp).
+  void supports(double dt);
 
   std::size_t fields() const {
     return multi_ ? site_.size() : key_.size();
@@ -549,42 +522,14 @@ private:
   }
 
   double capacity(std::size_t L) const; // MpmGridContact.hpp
+  // Coulomb friction of the walls the node lies on, into v^L (MpmGridWalls.hpp).
+  void rub(std::size_t I, const Vec<Dim>& v, Vec<Dim>& vL, std::vector<double>* heat) const;
+  // The walls (MpmGridWalls.hpp): whether a node lies on or behind one, and its velocity with
+  // no part along the normal of any it does.
+  bool onWall(const Vec<Dim>& X, const GridWall<Dim>& w) const;
+  void constrainAt(const Key& k, Vec<Dim>& v) const;
   void constrain(std::size_t I, Vec<Dim>& v) const {
     constrainAt(key_[lattice(I)], v);
-  }
-  // Coulomb friction of the walls a node lies on (GridWall::friction), before the walls take
-  // the normal parts: the force pressing the node on a wall this step is -(v^L - v) . n (the
-  // change the wall cancels, as the FLIP increment keeps out its correction of v), and the
-  // tangential v^L loses up to mu times it, or all of it (it sticks). The work, the impulse
-  // times the mean of the slides at the step's start and end (as contact's, MpmGridContact.hpp),
-  // into heat.
-  void rub(std::size_t I, const Vec<Dim>& v, Vec<Dim>& vL, std::vector<double>* heat) const {
-    if (!rigid_.empty() && rigid_[I]) return;
-    const Vec<Dim> X = place(key_[lattice(I)]);
-    for (const auto& w : walls_) {
-      if (!(w.friction > 0.0) || !onWall(X, w)) continue;
-      const double pressed = -(vL - v).dot(w.normal);
-      const Vec<Dim> slide = vL - vL.dot(w.normal) * w.normal;
-      const double s = slide.norm();
-      if (!(pressed > 0.0) || !(s > 0.0)) continue;
-      const double kept = std::max(0.0, 1.0 - w.friction * pressed / s); // 0: it sticks
-      vL -= (1.0 - kept) * slide;
-      if (!heat) continue;
-      const Vec<Dim> J = mass_[I] * (1.0 - kept) * slide;
-      const Vec<Dim> start = v - v.dot(w.normal) * w.normal;
-      (*heat)[I] +=
-          std::clamp(0.5 * J.dot(start + kept * slide), 0.0, 0.5 * J.dot((1.0 + kept) * slide));
-    }
-  }
-  // A node on or behind a wall's plane: the wall holds its velocity along the normal.
-  bool onWall(const Vec<Dim>& X, const GridWall<Dim>& w) const {
-    return (X - w.point).dot(w.normal) <= 1e-9 * c_.cell_size;
-  }
-  void constrainAt(const Key& k, Vec<Dim>& v) const {
-    if (walls_.empty()) return;
-    const Vec<Dim> X = place(k);
-    for (const auto& w : walls_)
-      if (onWall(X, w)) v -= v.dot(w.normal) * w.normal;
   }
 
   MpmConfig c_;

@@ -1,6 +1,6 @@
 #pragma once
 // The grid's pressure loads (MpmParticles::load): each node's load, its force on the fields
-// there, and each owned point's share of it.
+// there, and each owned point's share of it; and the supports of fixed bodies.
 #include "MpmGridImpl.hpp"
 
 namespace spall::solvers::grid {
@@ -57,6 +57,37 @@ template <int Dim, MpmShape Shape> void Grid<Dim, Shape>::shareLoads(const MpmPa
     }
     P.load[r] = Pp;
     P.loadArea[r] = Pp > 0.0 ? Vec<Dim>(-F / Pp) : Vec<Dim>::Zero();
+  }
+}
+
+// The support's impulse at each node a fixed body holds, the momentum the step hands the
+// other points there beyond the nodes' forces: J = sum over the node's fields of what G2P
+// gives the points that are not fixed (FLIP: (m - m_fix) dv; PIC and APIC: (m - m_fix) v -
+// (p - p_fix); blended by flip) minus dt f. The forces of all nodes sum to the external ones
+// (the stresses' cancel), so the J add up to the momentum change no force explains: what the
+// prescribed velocities and the contact against a held field did. Each held field keeps
+// -J / dt by its share of the fixed mass; G2P hands it to the fixed points as the
+// acceleration the support cancels (methods/MpmMethod books -m a, as SPH's FixedBodies).
+template <int Dim, MpmShape Shape> void Grid<Dim, Shape>::supports(double dt) {
+  const double phi = c_.transfer == MpmTransfer::Apic ? 0.0 : c_.flip;
+  support_.assign(fields(), Vec<Dim>::Zero());
+  const auto fieldsAt = [&](std::size_t L, auto&& each) {
+    if (!multi_) return each(static_cast<std::uint32_t>(L));
+    for (std::uint32_t b = head_[L]; b != kNone; b = next_[b]) each(b);
+  };
+  for (std::size_t L = 0; L < key_.size(); ++L) {
+    Vec<Dim> J = Vec<Dim>::Zero();
+    double held = 0.0;
+    fieldsAt(L, [&](std::uint32_t b) {
+      const double m = mass_[b] - fixedMass_[b];
+      const Vec<Dim> p = momentum_[b] - fixedMomentum_[b];
+      J += phi * m * increment_[b] + (1.0 - phi) * (m * velocity_[b] - p) - dt * force_[b];
+      if (rigid_[b]) held += fixedMass_[b];
+    });
+    if (!(held > 0.0)) continue;
+    fieldsAt(L, [&](std::uint32_t b) {
+      if (rigid_[b]) support_[b] = (-fixedMass_[b] / (held * dt)) * J;
+    });
   }
 }
 
